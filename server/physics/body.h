@@ -1,0 +1,32 @@
+// Body handles and the description a body is created from.
+#pragma once
+
+#include <cstdint>
+
+#include "physics/mass_properties.h"
+#include "physics/math.h"
+#include "physics/shape.h"
+
+namespace tumble::physics {
+
+// Stable handle to a body in a World. Ids are handed out in increasing order
+// and never reused while the World lives, so a stale id is detectably
+// unknown (World::contains) rather than silently naming another body.
+using BodyId = std::uint32_t;
+inline constexpr BodyId kInvalidBodyId = 0xffffffff;
+
+// Everything needed to create a body. The World copies what it needs; the
+// description can be discarded after World::add_body.
+struct BodyDesc {
+  Shape shape;
+  // mass > 0 and inertia (about the centre of mass, body axes) positive
+  // definite. mass_properties.center is ignored for the state: position IS
+  // the centre of mass, and the shape is expected to be centred on it.
+  MassProperties mass_properties;
+  Vec3 position = Vec3::Zero();          // centre of mass, world frame (m)
+  Quat orientation = Quat::Identity();   // body -> world, [w, x, y, z]; normalised on creation
+  Vec3 linear_velocity = Vec3::Zero();   // world frame (m/s)
+  Vec3 angular_velocity = Vec3::Zero();  // world frame (rad/s)
+};
+
+}  // namespace tumble::physics

@@ -1,0 +1,49 @@
+#include "physics/integrator.h"
+
+#include "physics/rotation.h"
+
+namespace tumble::physics {
+namespace {
+
+// Fixed-point iterations for w_mid stop when an iteration changes w by less
+// than this fraction of |w| (a few units of roundoff), or after
+// kMaxMidpointIterations, which bounds the work for very fast spins.
+constexpr double kMidpointTolerance = 1e-14;
+constexpr int kMaxMidpointIterations = 16;
+
+// w = I^-1 L with I^-1 = R I_body^-1 R^T (Baraff, "Angular Momentum").
+Vec3 angular_velocity_at(const Quat& q, const Vec3& angular_momentum, const Mat3& inverse_inertia_body) {
+  const Mat3 r = q.toRotationMatrix();
+  return r * (inverse_inertia_body * (r.transpose() * angular_momentum));
+}
+
+}  // namespace
+
+Quat advance_orientation(const Quat& orientation, const Vec3& angular_momentum, const Mat3& inverse_inertia_body,
+                         double dt) {
+  Vec3 w_mid = angular_velocity_at(orientation, angular_momentum, inverse_inertia_body);
+  for (int i = 0; i < kMaxMidpointIterations; ++i) {
+    // q_mid = exp(w_mid dt/2) q_n: the orientation half way through the step.
+    const Quat q_mid = quat_from_rotation_vector((0.5 * dt) * w_mid) * orientation;
+    const Vec3 next = angular_velocity_at(q_mid, angular_momentum, inverse_inertia_body);
+    const double change2 = (next - w_mid).squaredNorm();
+    w_mid = next;
+    if (change2 <= kMidpointTolerance * kMidpointTolerance * w_mid.squaredNorm()) break;
+  }
+  // q_{n+1} = exp(w_mid dt) q_n. Left multiplication: w is in the world frame.
+  // Normalising removes the roundoff the product accumulates.
+  return (quat_from_rotation_vector(dt * w_mid) * orientation).normalized();
+}
+
+void integrate_body(BodyState& state, const BodyMass& mass, const Vec3& gravity, double dt) {
+  // dP/dt = F (Baraff, "Rigid Body Equations of Motion"), gravity as M g.
+  state.linear_momentum += (state.force + mass.mass * gravity) * dt;
+  // Semi-implicit: the position moves with the updated velocity v = P / M.
+  state.position += (state.linear_momentum * mass.inverse_mass) * dt;
+
+  // dL/dt = tau.
+  state.angular_momentum += state.torque * dt;
+  state.orientation = advance_orientation(state.orientation, state.angular_momentum, mass.inverse_inertia_body, dt);
+}
+
+}  // namespace tumble::physics

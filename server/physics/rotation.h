@@ -1,0 +1,20 @@
+// Rotations: the exponential map from rotation vectors to unit quaternions
+// and the change of frame of second-order tensors. Pure functions;
+// thread-safe.
+#pragma once
+
+#include "physics/math.h"
+
+namespace tumble::physics {
+
+// The unit quaternion of a rotation by the angle |theta| (rad) about the axis
+// theta / |theta|: exp(theta) = [cos(|theta|/2), sin(|theta|/2) theta/|theta|].
+// Exact for any angle (no small-angle approximation of the rotation) and
+// smooth through theta = 0.
+Quat quat_from_rotation_vector(const Vec3& theta);
+
+// A tensor given in body axes expressed in world axes: R T R^T with R the
+// rotation matrix of q (Baraff, "The Inertia Tensor": I(t) = R I_body R^T).
+Mat3 body_to_world_tensor(const Quat& q, const Mat3& tensor_body);
+
+}  // namespace tumble::physics

@@ -1,0 +1,157 @@
+// Body bookkeeping: ids, dense order, removal, and state accessors.
+#include "physics/world.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include "physics/mass_properties.h"
+#include "physics/rotation.h"
+
+namespace tumble::physics {
+namespace {
+
+BodyDesc sphere_at(const Vec3& position, const Vec3& velocity) {
+  BodyDesc desc;
+  desc.shape.type = ShapeType::sphere;
+  desc.shape.radius = 0.25;
+  desc.mass_properties = sphere_mass_properties(1.5, 0.25);
+  desc.position = position;
+  desc.linear_velocity = velocity;
+  return desc;
+}
+
+TEST(WorldTest, EmptyWorldSteps) {
+  World world;
+  EXPECT_EQ(world.body_count(), 0u);
+  world.step(1.0 / 60.0);
+  world.step(0.0);
+  EXPECT_EQ(world.body_count(), 0u);
+  EXPECT_FALSE(world.contains(0));
+  EXPECT_FALSE(world.contains(kInvalidBodyId));
+  EXPECT_FALSE(world.remove_body(0));
+}
+
+TEST(WorldTest, IdsAndDenseOrder) {
+  World world;
+  std::vector<BodyId> ids;
+  for (int i = 0; i < 4; ++i) ids.push_back(world.add_body(sphere_at(Vec3(i, 0, 0), Vec3::Zero())));
+  ASSERT_EQ(world.body_count(), 4u);
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    EXPECT_TRUE(world.contains(ids[i]));
+    EXPECT_EQ(world.body_id_at(i), ids[i]);
+    EXPECT_NE(ids[i], kInvalidBodyId);
+    for (std::size_t j = 0; j < i; ++j) EXPECT_NE(ids[i], ids[j]);
+  }
+  EXPECT_EQ(world.shape(ids[2]).type, ShapeType::sphere);
+  EXPECT_DOUBLE_EQ(world.shape(ids[2]).radius, 0.25);
+  EXPECT_DOUBLE_EQ(world.mass(ids[2]), 1.5);
+}
+
+TEST(WorldTest, RemoveKeepsOtherBodiesIntact) {
+  World world;
+  world.set_gravity(Vec3::Zero());
+  std::vector<BodyId> ids;
+  for (int i = 0; i < 5; ++i) {
+    ids.push_back(world.add_body(sphere_at(Vec3(i, 2.0 * i, -i), Vec3(0.5 * i, 1.0, -0.25 * i))));
+  }
+  world.step(0.1);
+
+  std::vector<Vec3> positions;
+  std::vector<Vec3> velocities;
+  for (BodyId id : ids) {
+    positions.push_back(world.position(id));
+    velocities.push_back(world.linear_velocity(id));
+  }
+
+  EXPECT_TRUE(world.remove_body(ids[1]));   // from the middle: the last body moves into its slot
+  EXPECT_FALSE(world.remove_body(ids[1]));  // already gone
+  EXPECT_FALSE(world.contains(ids[1]));
+  EXPECT_TRUE(world.remove_body(ids[4]));  // the last one
+  ASSERT_EQ(world.body_count(), 3u);
+
+  // Survivors keep their ids and state.
+  for (std::size_t k : {0u, 2u, 3u}) {
+    EXPECT_TRUE(world.contains(ids[k]));
+    EXPECT_EQ(world.position(ids[k]), positions[k]);
+    EXPECT_EQ(world.linear_velocity(ids[k]), velocities[k]);
+  }
+  // Every dense index names a live body, each once.
+  std::vector<BodyId> dense;
+  for (std::size_t i = 0; i < world.body_count(); ++i) dense.push_back(world.body_id_at(i));
+  EXPECT_EQ(dense, (std::vector<BodyId>{ids[0], ids[3], ids[2]}));
+
+  // Ids are not reused.
+  const BodyId fresh = world.add_body(sphere_at(Vec3::Zero(), Vec3::Zero()));
+  for (BodyId id : ids) EXPECT_NE(fresh, id);
+  EXPECT_EQ(world.body_id_at(world.body_count() - 1), fresh);
+
+  // Survivors still move with their own velocity.
+  const double dt = 0.5;
+  world.step(dt);
+  for (std::size_t k : {0u, 2u, 3u}) {
+    EXPECT_LT((world.position(ids[k]) - (positions[k] + velocities[k] * dt)).norm(), 1e-14);
+  }
+  EXPECT_EQ(world.position(fresh), Vec3::Zero());
+}
+
+TEST(WorldTest, RemoveAllThenAdd) {
+  World world;
+  const BodyId a = world.add_body(sphere_at(Vec3::Zero(), Vec3::Zero()));
+  EXPECT_TRUE(world.remove_body(a));
+  EXPECT_EQ(world.body_count(), 0u);
+  world.step(0.01);
+  const BodyId b = world.add_body(sphere_at(Vec3::Ones(), Vec3::Zero()));
+  EXPECT_NE(a, b);
+  EXPECT_FALSE(world.contains(a));
+  EXPECT_EQ(world.position(b), Vec3::Ones());
+}
+
+TEST(WorldTest, StateRoundTripAndKineticEnergy) {
+  World world;
+  BodyDesc desc;
+  desc.shape.type = ShapeType::box;
+  desc.shape.half_extents = Vec3(0.1, 0.3, 0.6);
+  desc.mass_properties = box_mass_properties(2.0, desc.shape.half_extents);
+  desc.orientation = Quat(2.0, 0.0, 0.0, 0.0);  // not unit: normalised on creation
+  const BodyId id = world.add_body(desc);
+  EXPECT_NEAR(world.orientation(id).norm(), 1.0, 1e-15);
+
+  const Vec3 x(1.0, 2.0, 3.0);
+  const Quat q = quat_from_rotation_vector(Vec3(0.4, -0.2, 0.9));
+  const Vec3 v(0.5, -1.0, 2.0);
+  const Vec3 w(3.0, -1.0, 0.5);
+  world.set_state(id, x, q, v, w);
+  EXPECT_EQ(world.position(id), x);
+  EXPECT_TRUE(world.orientation(id).isApprox(q, 1e-15));
+  EXPECT_LT((world.linear_velocity(id) - v).norm(), 1e-14);
+  EXPECT_LT((world.angular_velocity(id) - w).norm(), 1e-13);
+  EXPECT_LT((world.linear_momentum(id) - 2.0 * v).norm(), 1e-14);
+
+  // I_world = R I_body R^T; L = I_world w.
+  const Mat3 r = q.toRotationMatrix();
+  const Mat3 i_world = r * desc.mass_properties.inertia * r.transpose();
+  EXPECT_TRUE(world.inertia_world(id).isApprox(i_world, 1e-14));
+  EXPECT_LT((world.angular_momentum(id) - i_world * w).norm(), 1e-14);
+  EXPECT_EQ(world.inertia_body(id), desc.mass_properties.inertia);
+
+  // 1/2 M v.v + 1/2 w^T I w.
+  const double expected = 0.5 * 2.0 * v.squaredNorm() + 0.5 * w.dot(i_world * w);
+  EXPECT_NEAR(world.kinetic_energy(id), expected, 1e-13 * expected);
+}
+
+TEST(WorldTest, ForceAtPointAccumulatesTorque) {
+  World world;
+  const BodyId id = world.add_body(sphere_at(Vec3(1.0, 0.0, 0.0), Vec3::Zero()));
+  world.add_force_at_point(id, Vec3(0.0, 2.0, 0.0), Vec3(1.0, 0.0, 1.0));  // r - x = +z
+  world.add_force(id, Vec3(1.0, 0.0, 0.0));
+  world.add_torque(id, Vec3(0.0, 0.0, 5.0));
+  EXPECT_EQ(world.accumulated_force(id), Vec3(1.0, 2.0, 0.0));
+  // z x 2y = -2x.
+  EXPECT_EQ(world.accumulated_torque(id), Vec3(-2.0, 0.0, 5.0));
+}
+
+}  // namespace
+}  // namespace tumble::physics
