@@ -1,0 +1,28 @@
+// Turns a tumble.v1.BodySpec (from a scene file or a client) into the
+// physics engine's BodyDesc, checking that it describes a real body:
+// positive mass and sizes, a unit orientation, finite numbers.
+#pragma once
+
+#include <string>
+
+#include "physics/body.h"
+#include "sim/status.h"
+#include "tumble/v1/scene.pb.h"
+
+namespace tumble::sim {
+
+// Largest magnitude accepted for any coordinate, size, velocity, force or
+// mass. Values beyond it are surely a mistake and would overflow the state
+// within a few steps.
+inline constexpr double kMaxMagnitude = 1e9;
+
+// Fills `desc` from `spec`. `where` names the body in errors, e.g.
+// "bodies[3]"; messages name the offending field below it.
+Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where,
+                           physics::BodyDesc* desc);
+
+// The name of the shape kind as written in scene files: "box", "sphere",
+// "capsule", "points", or "none".
+const char* shape_kind_name(const tumble::v1::Shape& shape);
+
+}  // namespace tumble::sim

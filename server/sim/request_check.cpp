@@ -1,0 +1,94 @@
+#include "sim/request_check.h"
+
+#include <cmath>
+
+#include "sim/body_spec.h"
+
+namespace tumble::sim {
+namespace {
+
+using tumble::v1::ClientMessage;
+
+// The longest a timed force or torque may last, in seconds of sim time.
+constexpr double kMaxDurationSeconds = 1e6;
+
+std::optional<RequestError> invalid(std::string message) {
+  return RequestError{tumble::v1::INVALID_ARGUMENT, std::move(message)};
+}
+
+bool within_limits(double value) { return std::isfinite(value) && std::abs(value) <= kMaxMagnitude; }
+
+std::optional<RequestError> check_vec3(const tumble::v1::Vec3& v, const char* field) {
+  if (within_limits(v.x()) && within_limits(v.y()) && within_limits(v.z())) return std::nullopt;
+  return invalid(std::string(field) + " must have finite components of at most 1e9 in magnitude, got [" +
+                 std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " + std::to_string(v.z()) + "]");
+}
+
+std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool present) {
+  if (!present || ref.ref_case() == tumble::v1::BodyRef::REF_NOT_SET) return invalid("body is required");
+  if (ref.ref_case() == tumble::v1::BodyRef::kName && ref.name().empty()) {
+    return invalid("body name must not be empty");
+  }
+  return std::nullopt;
+}
+
+// Duration oneofs are alike in every timed message: seconds or ticks.
+std::optional<RequestError> check_duration(bool has_seconds, double seconds, bool has_ticks,
+                                           std::uint32_t ticks) {
+  if (has_seconds && !(std::isfinite(seconds) && seconds > 0 && seconds <= kMaxDurationSeconds)) {
+    return invalid("duration must be a finite number of seconds in (0, 1e6], got " + std::to_string(seconds));
+  }
+  if (has_ticks && ticks == 0) return invalid("duration in ticks must be at least 1");
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<RequestError> check_request(const ClientMessage& message) {
+  std::optional<RequestError> error;
+  switch (message.kind_case()) {
+    case ClientMessage::kHello:
+    case ClientMessage::kListBodies:
+    case ClientMessage::kUnsubscribe:
+      return std::nullopt;
+
+    case ClientMessage::kApplyForce: {
+      const auto& m = message.apply_force();
+      if ((error = check_body_ref(m.body(), m.has_body()))) return error;
+      if (!m.has_force()) return invalid("force is required");
+      if ((error = check_vec3(m.force(), "force"))) return error;
+      if ((error = check_vec3(m.point(), "point"))) return error;
+      return check_duration(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+    }
+    case ClientMessage::kApplyTorque: {
+      const auto& m = message.apply_torque();
+      if ((error = check_body_ref(m.body(), m.has_body()))) return error;
+      if (!m.has_torque()) return invalid("torque is required");
+      if ((error = check_vec3(m.torque(), "torque"))) return error;
+      return check_duration(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+    }
+    case ClientMessage::kApplyImpulse: {
+      const auto& m = message.apply_impulse();
+      if ((error = check_body_ref(m.body(), m.has_body()))) return error;
+      if (!m.has_impulse()) return invalid("impulse is required");
+      if ((error = check_vec3(m.impulse(), "impulse"))) return error;
+      return check_vec3(m.point(), "point");
+    }
+    case ClientMessage::kSubscribe: {
+      const auto& m = message.subscribe();
+      if (!std::isfinite(m.rate_hz()) || m.rate_hz() < 0) {
+        return invalid("rate_hz must be a finite number >= 0, got " + std::to_string(m.rate_hz()));
+      }
+      for (const auto& ref : m.bodies()) {
+        if ((error = check_body_ref(ref, true))) return error;
+      }
+      return std::nullopt;
+    }
+    case ClientMessage::KIND_NOT_SET:
+      break;
+  }
+  return RequestError{tumble::v1::UNKNOWN_MESSAGE,
+                      "the message holds no request this server knows (protocol version 1)"};
+}
+
+}  // namespace tumble::sim

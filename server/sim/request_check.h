@@ -1,0 +1,23 @@
+// Checks a client request for what can be judged without the world:
+// required fields present, numbers finite and within limits, durations
+// positive. Runs on the I/O thread before a request reaches the sim; whether
+// the named body exists is decided by the sim when it applies the request.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "tumble/v1/protocol.pb.h"
+
+namespace tumble::sim {
+
+// Why a request was refused.
+struct RequestError {
+  tumble::v1::ErrorCode code = tumble::v1::INVALID_ARGUMENT;
+  std::string message;
+};
+
+// nullopt when `message` may be applied.
+std::optional<RequestError> check_request(const tumble::v1::ClientMessage& message);
+
+}  // namespace tumble::sim

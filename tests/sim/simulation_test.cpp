@@ -1,0 +1,236 @@
+// The simulation applying commands, stepped tick by tick without the clock.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "sim/request_check.h"
+#include "sim/scene_file.h"
+#include "sim/simulation.h"
+
+namespace tumble::sim {
+namespace {
+
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+constexpr double kRate = 240;
+constexpr double kDt = 1.0 / kRate;
+
+class SimulationTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    tumble::v1::Scene scene;
+    // A free box of 2 kg in zero gravity and a sphere; exact numbers make exact expectations.
+    ASSERT_TRUE(parse_scene_json(R"({"gravity": [0, 0, 0], "bodies": [
+        {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
+        {"name": "ball", "shape": {"sphere": {"radius": 1}}, "mass": 1, "position": [5, 0, 0]}]})",
+                                 &scene)
+                    .ok());
+    SimConfig config;
+    config.tick_rate_hz = kRate;
+    ASSERT_TRUE(Simulation::create(scene, config, &sim_).ok());
+    crate_ = sim_->world().body_id_at(0);
+    ball_ = sim_->world().body_id_at(1);
+  }
+
+  // Submits `message` (checked as the network layer would) and returns the reply after one tick.
+  ServerMessage request(ClientMessage message) {
+    message.set_request_id(++request_id_);
+    if (auto problem = check_request(message)) {
+      ServerMessage reply;
+      reply.mutable_error()->set_code(problem->code);
+      reply.mutable_error()->set_message(problem->message);
+      return reply;
+    }
+    auto reply = std::make_shared<ServerMessage>();
+    sim_->submit(Command{message, [reply](ServerMessage m) { *reply = std::move(m); }});
+    sim_->run_tick();
+    return *reply;
+  }
+
+  static ClientMessage force(const std::string& body, double fx, double fy, double fz) {
+    ClientMessage message;
+    auto* f = message.mutable_apply_force();
+    f->mutable_body()->set_name(body);
+    f->mutable_force()->set_x(fx);
+    f->mutable_force()->set_y(fy);
+    f->mutable_force()->set_z(fz);
+    return message;
+  }
+
+  std::unique_ptr<Simulation> sim_;
+  physics::BodyId crate_ = 0;
+  physics::BodyId ball_ = 0;
+  std::uint64_t request_id_ = 0;
+};
+
+TEST_F(SimulationTest, ForceTakesEffectInTheStepOfItsAppliedTick) {
+  sim_->run_tick();
+  sim_->run_tick();
+  const ServerMessage reply = request(force("crate", 4, 0, 0));
+  ASSERT_TRUE(reply.has_ack()) << reply.DebugString();
+  EXPECT_EQ(reply.ack().request_id(), request_id_);
+  EXPECT_EQ(reply.ack().applied_tick(), 3u);
+  EXPECT_EQ(sim_->tick(), 3u);
+  // One tick of F = 4 N on 2 kg: v = F/M dt.
+  EXPECT_NEAR(sim_->world().linear_velocity(crate_).x(), 4.0 / 2.0 * kDt, 1e-15);
+  sim_->run_tick();
+  EXPECT_NEAR(sim_->world().linear_velocity(crate_).x(), 4.0 / 2.0 * kDt, 1e-15) << "default is one tick";
+}
+
+TEST_F(SimulationTest, ForceLastsItsDurationInSecondsOrTicks) {
+  ClientMessage by_seconds = force("crate", 2, 0, 0);
+  by_seconds.mutable_apply_force()->set_seconds(0.5);  // 120 ticks at 240 Hz
+  ASSERT_TRUE(request(by_seconds).has_ack());
+  for (int i = 1; i < 200; ++i) sim_->run_tick();
+  // Momentum = F T with T rounded to whole ticks.
+  EXPECT_NEAR(sim_->world().linear_momentum(crate_).x(), 2.0 * 120 * kDt, 1e-12);
+
+  ClientMessage by_ticks = force("ball", 0, 3, 0);
+  by_ticks.mutable_apply_force()->set_ticks(7);
+  ASSERT_TRUE(request(by_ticks).has_ack());
+  for (int i = 1; i < 20; ++i) sim_->run_tick();
+  EXPECT_NEAR(sim_->world().linear_momentum(ball_).y(), 3.0 * 7 * kDt, 1e-12);
+}
+
+TEST_F(SimulationTest, ForceAtABodyPointSpinsTheBody) {
+  // F = (0, 1, 0) N at body point (0.5, 0, 0): torque (r - x) x F = (0, 0, 0.5) for one tick.
+  ClientMessage message = force("crate", 0, 1, 0);
+  auto* f = message.mutable_apply_force();
+  f->mutable_point()->set_x(0.5);
+  f->set_point_frame(tumble::v1::FRAME_BODY);
+  ASSERT_TRUE(request(message).has_ack());
+  EXPECT_NEAR(sim_->world().angular_momentum(crate_).z(), 0.5 * kDt, 1e-15);
+  EXPECT_NEAR(sim_->world().linear_momentum(crate_).y(), 1.0 * kDt, 1e-15);
+}
+
+TEST_F(SimulationTest, WorldPointIsTakenRelativeToTheCentreOfMass) {
+  // The ball is at x = 5: a world point (5, 0, 1) is 1 m along +z from its centre.
+  ClientMessage message = force("ball", 1, 0, 0);
+  message.mutable_apply_force()->mutable_point()->set_x(5);
+  message.mutable_apply_force()->mutable_point()->set_z(1);
+  ASSERT_TRUE(request(message).has_ack());
+  // (0, 0, 1) x (1, 0, 0) = (0, 1, 0).
+  EXPECT_NEAR(sim_->world().angular_momentum(ball_).y(), 1.0 * kDt, 1e-15);
+}
+
+TEST_F(SimulationTest, ImpulseChangesMomentumAtOnce) {
+  ClientMessage message;
+  auto* impulse = message.mutable_apply_impulse();
+  impulse->mutable_body()->set_id(ball_);
+  impulse->mutable_impulse()->set_x(3);
+  const ServerMessage reply = request(message);
+  ASSERT_TRUE(reply.has_ack());
+  EXPECT_DOUBLE_EQ(sim_->world().linear_momentum(ball_).x(), 3.0);
+  EXPECT_DOUBLE_EQ(sim_->world().position(ball_).x(), 5.0 + 3.0 * kDt);
+}
+
+TEST_F(SimulationTest, TorqueSpinsUpAboutTheCentre) {
+  ClientMessage message;
+  auto* torque = message.mutable_apply_torque();
+  torque->mutable_body()->set_name("crate");
+  torque->mutable_torque()->set_y(2);
+  torque->set_ticks(24);
+  ASSERT_TRUE(request(message).has_ack());
+  for (int i = 1; i < 30; ++i) sim_->run_tick();
+  EXPECT_NEAR(sim_->world().angular_momentum(crate_).y(), 2.0 * 24 * kDt, 1e-12);
+  EXPECT_TRUE(sim_->world().linear_momentum(crate_).isZero());
+}
+
+TEST_F(SimulationTest, UnknownBodyIsAnErrorAndChangesNothing) {
+  const ServerMessage by_name = request(force("nobody", 1, 0, 0));
+  ASSERT_TRUE(by_name.has_error());
+  EXPECT_EQ(by_name.error().code(), tumble::v1::UNKNOWN_BODY);
+  EXPECT_EQ(by_name.error().message(), "no body 'nobody' in the world");
+  EXPECT_EQ(by_name.error().request_id(), request_id_);
+
+  ClientMessage by_id;
+  by_id.mutable_apply_impulse()->mutable_body()->set_id(999);
+  by_id.mutable_apply_impulse()->mutable_impulse()->set_x(1);
+  const ServerMessage reply = request(by_id);
+  ASSERT_TRUE(reply.has_error());
+  EXPECT_EQ(reply.error().message(), "no body 999 in the world");
+  EXPECT_TRUE(sim_->world().linear_momentum(crate_).isZero());
+  EXPECT_TRUE(sim_->world().linear_momentum(ball_).isZero());
+}
+
+TEST_F(SimulationTest, NonFiniteNumbersAreRefusedBeforeTheyReachTheWorld) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (double bad : {nan, inf, -inf, 1e300}) {
+    const ServerMessage reply = request(force("crate", bad, 0, 0));
+    ASSERT_TRUE(reply.has_error());
+    EXPECT_EQ(reply.error().code(), tumble::v1::INVALID_ARGUMENT);
+    EXPECT_NE(reply.error().message().find("force"), std::string::npos) << reply.error().message();
+  }
+  ClientMessage bad_duration = force("crate", 1, 0, 0);
+  bad_duration.mutable_apply_force()->set_seconds(-1);
+  EXPECT_EQ(request(bad_duration).error().code(), tumble::v1::INVALID_ARGUMENT);
+  ClientMessage no_body;
+  no_body.mutable_apply_force()->mutable_force()->set_x(1);
+  EXPECT_EQ(request(no_body).error().message(), "body is required");
+  EXPECT_TRUE(sim_->world().linear_momentum(crate_).isZero());
+}
+
+TEST_F(SimulationTest, ListBodiesDescribesEveryBody) {
+  ClientMessage message;
+  message.mutable_list_bodies();
+  const ServerMessage reply = request(message);
+  ASSERT_TRUE(reply.has_body_list());
+  const auto& list = reply.body_list();
+  ASSERT_EQ(list.bodies_size(), 2);
+  EXPECT_EQ(list.bodies(0).name(), "crate");
+  EXPECT_TRUE(list.bodies(0).shape().has_box());
+  EXPECT_DOUBLE_EQ(list.bodies(0).mass(), 2);
+  EXPECT_EQ(list.bodies(1).name(), "ball");
+  EXPECT_DOUBLE_EQ(list.bodies(1).position().x(), 5);
+  EXPECT_DOUBLE_EQ(list.bodies(1).orientation().w(), 1);
+}
+
+TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
+  std::vector<std::uint64_t> ticks;
+  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { ticks.push_back(s->tick); });
+  for (int i = 0; i < 5; ++i) sim_->run_tick();
+  EXPECT_TRUE(ticks.empty()) << "nobody subscribed";
+  sim_->set_publish_periods({4, 6});
+  for (int i = 0; i < 7; ++i) sim_->run_tick();  // ticks 6..12
+  EXPECT_EQ(ticks, (std::vector<std::uint64_t>{6, 8, 12}));
+  sim_->request_snapshot();
+  sim_->run_tick();
+  EXPECT_EQ(ticks.back(), 13u);
+}
+
+TEST_F(SimulationTest, SnapshotHoldsThePosesAfterTheStep) {
+  std::shared_ptr<const Snapshot> last;
+  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { last = std::move(s); });
+  sim_->request_snapshot();
+  ClientMessage message;
+  message.mutable_apply_impulse()->mutable_body()->set_name("ball");
+  message.mutable_apply_impulse()->mutable_impulse()->set_y(2);
+  request(message);
+  ASSERT_TRUE(last);
+  ASSERT_EQ(last->body_count(), 2u);
+  EXPECT_EQ(last->ids[1], ball_);
+  EXPECT_DOUBLE_EQ(last->positions[3 + 0], 5.0);
+  EXPECT_DOUBLE_EQ(last->positions[3 + 1], 2.0 * kDt);
+  EXPECT_DOUBLE_EQ(last->linear_velocities[3 + 1], 2.0);
+  EXPECT_DOUBLE_EQ(last->orientations[4 + 0], 1.0);
+  EXPECT_EQ(last->directory->name_of(ball_), "ball");
+}
+
+TEST_F(SimulationTest, RunsOnItsOwnThreadAtTheTickRate) {
+  sim_->start();
+  // Generous bound on a shared machine: only that ticks advance, not how fast.
+  for (int i = 0; i < 500 && sim_->tick() < 24; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  sim_->stop();
+  EXPECT_GE(sim_->tick(), 24u);
+  const std::uint64_t stopped_at = sim_->tick();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(sim_->tick(), stopped_at) << "stop() joins the sim thread";
+}
+
+}  // namespace
+}  // namespace tumble::sim
