@@ -1,0 +1,122 @@
+// tumbled: the tumble simulation server. Flags -> config -> run.
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "net/asio.h"
+#include "net/server.h"
+#include "sim/scene_file.h"
+#include "sim/simulation.h"
+
+namespace {
+
+constexpr const char* kVersion = "0.1.0";
+
+// HOST:PORT, with the host in brackets for IPv6 ("[::1]:7400").
+bool split_host_port(const std::string& text, std::string& host, std::uint16_t& port) {
+  const std::size_t colon = text.rfind(':');
+  if (colon == std::string::npos || colon + 1 == text.size()) return false;
+  host = text.substr(0, colon);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
+  try {
+    std::size_t used = 0;
+    const unsigned long value = std::stoul(text.substr(colon + 1), &used);
+    if (used != text.size() - colon - 1 || value > 65535) return false;
+    port = static_cast<std::uint16_t>(value);
+  } catch (const std::exception&) {
+    return false;
+  }
+  return !host.empty();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tumbled: a networked rigid-body simulation server"};
+  std::string listen = "127.0.0.1:7400";
+  std::string scene_path;
+  std::string port_file;
+  double tick_rate = 240;
+  std::string log_level = "info";
+  std::size_t max_frame_bytes = tumble::wire::kDefaultMaxFrameBytes;
+  app.add_option("--listen", listen, "Address to listen on, HOST:PORT (port 0 picks a free one)")
+      ->capture_default_str();
+  app.add_option("--scene", scene_path, "Scene file (JSON) to load; an empty world without one");
+  app.add_option("--tick-rate", tick_rate, "Simulation steps per second")->capture_default_str();
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  app.add_option("--max-frame-bytes", max_frame_bytes, "Largest message a client may send")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 30));
+  app.add_option("--port-file", port_file, "Write the bound port to this file once listening");
+  app.set_version_flag("--version", kVersion);
+  CLI11_PARSE(app, argc, argv);
+
+  spdlog::set_level(spdlog::level::from_str(log_level));
+  spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%-5l%$ [%n] %v");
+  auto log = spdlog::stderr_color_mt("tumbled");
+
+  std::string host;
+  std::uint16_t port = 0;
+  if (!split_host_port(listen, host, port)) {
+    log->error("--listen: '{}' is not HOST:PORT", listen);
+    return 2;
+  }
+
+  tumble::v1::Scene scene;
+  if (scene_path.empty()) {
+    scene.mutable_gravity()->set_y(-9.81);
+    log->warn("no --scene given: starting with an empty world");
+  } else if (auto status = tumble::sim::load_scene_file(scene_path, &scene); !status.ok()) {
+    log->error("cannot load the scene: {}", status.message());
+    return 1;
+  }
+
+  tumble::sim::SimConfig sim_config;
+  sim_config.tick_rate_hz = tick_rate;
+  std::unique_ptr<tumble::sim::Simulation> sim;
+  if (auto status = tumble::sim::Simulation::create(scene, sim_config, &sim); !status.ok()) {
+    log->error("invalid scene {}: {}", scene_path, status.message());
+    return 1;
+  }
+  log->info("tumbled {}: {} bodies from {}", kVersion, sim->body_count(),
+            scene_path.empty() ? std::string("no scene") : scene_path);
+
+  boost::asio::io_context io;
+  tumble::net::ServerConfig server_config;
+  server_config.host = host;
+  server_config.port = port;
+  server_config.limits.max_frame_bytes = max_frame_bytes;
+  server_config.server_version = kVersion;
+  tumble::net::Server server(io, *sim, server_config);
+  if (auto status = server.start(); !status.ok()) {
+    log->error("{}", status.message());
+    return 1;
+  }
+  if (!port_file.empty()) {
+    // Written to a temporary name and renamed, so a reader never sees half a number.
+    const std::string temporary = port_file + ".tmp";
+    std::ofstream(temporary) << server.port() << "\n";
+    std::rename(temporary.c_str(), port_file.c_str());
+  }
+
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& error, int signal) {
+    if (error) return;
+    log->info("received {}: shutting down", signal == SIGINT ? "SIGINT" : "SIGTERM");
+    server.stop();
+    io.stop();
+  });
+
+  sim->start();
+  io.run();
+  sim->stop();
+  log->info("stopped at tick {} ({} overruns)", sim->tick(), sim->overruns());
+  return 0;
+}

@@ -1,0 +1,89 @@
+// Fans snapshots out to subscribers. Subscriptions that ask for the same
+// thing (the same bodies at the same period) share one stream: its frame is
+// encoded once per snapshot and the bytes are shared by every session on it.
+// The stream's id is the subscription_id clients see.
+//
+// The sim thread hands snapshots over with offer(), which never blocks: it
+// keeps only the latest one and posts the publishing to the I/O thread. A
+// new subscriber asks the sim for a snapshot and gets the current state from
+// it at once, whatever its stream's period.
+//
+// Thread: offer() from any thread; everything else on the I/O thread.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "net/asio.h"
+#include "sim/request_check.h"
+#include "sim/simulation.h"
+#include "sim/snapshot.h"
+#include "tumble/v1/protocol.pb.h"
+
+namespace tumble::net {
+
+class Session;
+
+// What a client gets back for a Subscribe.
+struct Subscription {
+  std::uint32_t stream_id = 0;
+  std::uint32_t period_ticks = 1;
+  double rate_hz = 0;
+};
+
+class Publisher {
+ public:
+  Publisher(boost::asio::io_context& io, sim::Simulation& sim);
+
+  // Adds `session` to the stream for `request`, making the stream if it is
+  // new. Fails with UNKNOWN_BODY when the filter names a body that is not
+  // in the world.
+  std::variant<Subscription, sim::RequestError> subscribe(const std::shared_ptr<Session>& session,
+                                                          const tumble::v1::Subscribe& request);
+
+  // False when the session is not on that stream.
+  bool unsubscribe(const Session& session, std::uint32_t stream_id);
+
+  // Takes a closing session off every stream.
+  void remove_session(const Session& session);
+
+  // Hands a snapshot over from the sim thread.
+  void offer(std::shared_ptr<const sim::Snapshot> snapshot);
+
+  std::size_t stream_count() const { return streams_.size(); }
+
+ private:
+  struct Member {
+    const Session* key;
+    std::weak_ptr<Session> session;
+  };
+  struct Stream {
+    std::uint32_t id = 0;
+    bool all_bodies = true;
+    std::vector<physics::BodyId> bodies;  // sorted, when !all_bodies
+    std::uint32_t period_ticks = 1;
+    std::uint64_t last_tick = 0;          // tick of the last regular frame
+    std::vector<Member> members;
+    std::vector<Member> awaiting_first;   // joined since the last frame
+  };
+
+  void publish_latest();
+  void publish(const sim::Snapshot& snapshot);
+  std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
+  void update_periods();
+
+  boost::asio::io_context& io_;
+  sim::Simulation& sim_;
+  std::vector<Stream> streams_;
+  std::uint32_t next_stream_id_ = 1;
+
+  std::mutex handoff_mutex_;
+  std::shared_ptr<const sim::Snapshot> latest_;  // guarded by handoff_mutex_
+  bool publish_posted_ = false;                  // guarded by handoff_mutex_
+};
+
+}  // namespace tumble::net

@@ -1,0 +1,60 @@
+// The TCP front of tumbled: accepts connections and keeps the sessions.
+//
+// Thread: constructed, started and stopped on the thread that runs the
+// io_context (or before it runs); all its work happens there.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "net/asio.h"
+#include "net/publisher.h"
+#include "net/session.h"
+#include "sim/simulation.h"
+#include "sim/status.h"
+
+namespace tumble::net {
+
+struct ServerConfig {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 7400;  // 0 picks a free port; see Server::port()
+  SessionLimits limits;
+  std::string server_version;
+};
+
+class Server {
+ public:
+  // `sim` must outlive the server. The server installs itself as the sim's
+  // snapshot listener.
+  Server(boost::asio::io_context& io, sim::Simulation& sim, ServerConfig config);
+  ~Server();
+
+  // Binds and listens; fails with a sentence when the address is unusable.
+  sim::Status start();
+
+  // Stops accepting and closes every session.
+  void stop();
+
+  // The port actually bound, once started.
+  std::uint16_t port() const { return port_; }
+
+  std::size_t session_count() const { return sessions_.size(); }
+
+ private:
+  void accept_next();
+
+  boost::asio::io_context& io_;
+  sim::Simulation& sim_;
+  ServerConfig config_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  boost::asio::steady_timer accept_retry_;
+  Publisher publisher_;
+  SessionContext context_;
+  std::map<std::uint64_t, std::shared_ptr<Session>> sessions_;
+  std::uint64_t next_session_id_ = 1;
+  std::uint16_t port_ = 0;
+};
+
+}  // namespace tumble::net

@@ -1,0 +1,266 @@
+#include "net/session.h"
+
+#include "net/log.h"
+#include "net/publisher.h"
+#include "sim/request_check.h"
+#include "sim/simulation.h"
+
+namespace tumble::net {
+
+namespace asio = boost::asio;
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+Session::Session(asio::ip::tcp::socket socket, std::uint64_t id, SessionContext& context, ClosedFn on_closed)
+    : socket_(std::move(socket)),
+      id_(id),
+      context_(context),
+      on_closed_(std::move(on_closed)),
+      reader_(context.limits.max_frame_bytes),
+      linger_timer_(context.io) {
+  boost::system::error_code ignored;
+  const auto endpoint = socket_.remote_endpoint(ignored);
+  peer_ = ignored ? std::string("unknown") : endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
+  socket_.set_option(asio::ip::tcp::no_delay(true), ignored);
+}
+
+void Session::start() {
+  net_log().debug("session {}: connected from {}", id_, peer_);
+  read_more();
+}
+
+void Session::read_more() {
+  if (closed_ || reading_stopped_) return;
+  socket_.async_read_some(asio::buffer(read_buffer_),
+                          [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
+                            self->on_read(error, bytes);
+                          });
+}
+
+void Session::on_read(const boost::system::error_code& error, std::size_t bytes) {
+  if (closed_) return;
+  if (error) {
+    close(error == asio::error::eof ? "client closed the connection" : "read failed: " + error.message());
+    return;
+  }
+  reader_.append(read_buffer_.data(), bytes);
+  std::string_view body;
+  for (;;) {
+    switch (reader_.next(body)) {
+      case wire::FrameStatus::frame:
+        if (!handle_frame(body)) return;
+        continue;
+      case wire::FrameStatus::need_more:
+        read_more();
+        return;
+      case wire::FrameStatus::too_large:
+        fail(tumble::v1::FRAME_TOO_LARGE, "frame of " + std::to_string(reader_.declared_bytes()) +
+                                              " bytes exceeds the limit of " +
+                                              std::to_string(reader_.max_frame_bytes()) + " bytes");
+        return;
+      case wire::FrameStatus::bad_length:
+        fail(tumble::v1::MALFORMED_FRAME, "the frame's length prefix is not a valid varint");
+        return;
+    }
+  }
+}
+
+bool Session::handle_frame(std::string_view body) {
+  ClientMessage message;
+  if (!message.ParseFromArray(body.data(), static_cast<int>(body.size()))) {
+    fail(tumble::v1::MALFORMED_FRAME, "a frame of " + std::to_string(body.size()) +
+                                          " bytes is not a valid tumble.v1.ClientMessage");
+    return false;
+  }
+  if (!greeted_) {
+    handle_hello(message);
+    return greeted_;
+  }
+  handle_request(std::move(message));
+  return !closed_;
+}
+
+void Session::handle_hello(const ClientMessage& message) {
+  if (message.kind_case() != ClientMessage::kHello) {
+    fail(tumble::v1::HANDSHAKE_REQUIRED, "the first message must be Hello", message.request_id());
+    return;
+  }
+  const auto& hello = message.hello();
+  if (hello.protocol_version() != tumble::v1::PROTOCOL_VERSION_CURRENT) {
+    fail(tumble::v1::UNSUPPORTED_VERSION,
+         "protocol version " + std::to_string(hello.protocol_version()) + " is not supported; this server speaks " +
+             std::to_string(static_cast<int>(tumble::v1::PROTOCOL_VERSION_CURRENT)),
+         message.request_id());
+    return;
+  }
+  greeted_ = true;
+  client_name_ = hello.client_name();
+  ServerMessage reply;
+  auto& welcome = *reply.mutable_welcome();
+  welcome.set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
+  welcome.set_server_version(context_.server_version);
+  welcome.set_tick_rate_hz(context_.sim.tick_rate_hz());
+  welcome.set_tick(context_.sim.tick());
+  welcome.set_sim_time(context_.sim.sim_time());
+  welcome.set_body_count(context_.sim.body_count());
+  send(reply);
+  net_log().info("session {}: {} '{}' joined", id_, peer_, client_name_);
+}
+
+void Session::handle_request(ClientMessage message) {
+  if (auto problem = sim::check_request(message)) {
+    send_error(message.request_id(), problem->code, problem->message);
+    return;
+  }
+  switch (message.kind_case()) {
+    case ClientMessage::kHello:
+      send_error(message.request_id(), tumble::v1::INVALID_ARGUMENT, "Hello was already received");
+      return;
+    case ClientMessage::kSubscribe:
+      handle_subscribe(message);
+      return;
+    case ClientMessage::kUnsubscribe:
+      handle_unsubscribe(message);
+      return;
+    default:
+      break;
+  }
+  // Everything else is the world's business: the sim applies it at the next
+  // tick and its reply comes back to this thread.
+  sim::Command command;
+  command.message = std::move(message);
+  command.reply = [weak = weak_from_this(), &io = context_.io](ServerMessage reply) {
+    asio::post(io, [weak, reply = std::move(reply)] {
+      if (auto self = weak.lock()) self->send(reply);
+    });
+  };
+  context_.sim.submit(std::move(command));
+}
+
+void Session::handle_subscribe(const ClientMessage& message) {
+  auto result = context_.publisher.subscribe(shared_from_this(), message.subscribe());
+  if (auto* problem = std::get_if<sim::RequestError>(&result)) {
+    send_error(message.request_id(), problem->code, problem->message);
+    return;
+  }
+  const Subscription& subscription = std::get<Subscription>(result);
+  ServerMessage reply;
+  auto& subscribed = *reply.mutable_subscribed();
+  subscribed.set_request_id(message.request_id());
+  subscribed.set_subscription_id(subscription.stream_id);
+  subscribed.set_period_ticks(subscription.period_ticks);
+  subscribed.set_rate_hz(subscription.rate_hz);
+  send(reply);
+}
+
+void Session::handle_unsubscribe(const ClientMessage& message) {
+  const std::uint32_t stream = message.unsubscribe().subscription_id();
+  if (!context_.publisher.unsubscribe(*this, stream)) {
+    send_error(message.request_id(), tumble::v1::UNKNOWN_SUBSCRIPTION,
+               "this connection has no subscription " + std::to_string(stream));
+    return;
+  }
+  outbound_.drop_stream(stream);
+  ServerMessage reply;
+  reply.mutable_ack()->set_request_id(message.request_id());
+  reply.mutable_ack()->set_applied_tick(context_.sim.tick());
+  send(reply);
+}
+
+void Session::send_error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text) {
+  ServerMessage reply;
+  auto& error = *reply.mutable_error();
+  error.set_request_id(request_id);
+  error.set_code(code);
+  error.set_message(text);
+  send(reply);
+}
+
+void Session::fail(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id) {
+  net_log().warn("session {}: {}: {} ({}); closing", id_, peer_, text, tumble::v1::ErrorCode_Name(code));
+  send_error(request_id, code, text);
+  reading_stopped_ = true;
+  close_when_flushed_ = true;
+  close_reason_ = text;
+  if (!writing_) write_more();
+}
+
+void Session::send(const ServerMessage& message) {
+  if (closed_) return;
+  outbound_.push_message(wire::encode_frame(message));
+  if (outbound_.pending_message_bytes() > context_.limits.max_pending_bytes) {
+    close("client left " + std::to_string(outbound_.pending_message_bytes()) +
+          " bytes of replies unread, over the limit of " + std::to_string(context_.limits.max_pending_bytes));
+    return;
+  }
+  if (!writing_) write_more();
+}
+
+void Session::send_frame(std::uint32_t stream, std::shared_ptr<const std::string> bytes) {
+  if (closed_ || close_when_flushed_) return;
+  outbound_.offer_frame(stream, std::move(bytes));
+  if (!writing_) write_more();
+}
+
+void Session::write_more() {
+  if (closed_) return;
+  if (outbound_.empty()) {
+    if (close_when_flushed_) linger();
+    return;
+  }
+  outbound_.take_batch(in_flight_);
+  write_buffers_.clear();
+  for (std::string_view piece : in_flight_.pieces) write_buffers_.emplace_back(piece.data(), piece.size());
+  writing_ = true;
+  asio::async_write(socket_, write_buffers_,
+                    [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
+                      self->on_written(error);
+                    });
+}
+
+void Session::on_written(const boost::system::error_code& error) {
+  writing_ = false;
+  if (closed_) return;
+  if (error) {
+    close("write failed: " + error.message());
+    return;
+  }
+  write_more();
+}
+
+void Session::linger() {
+  boost::system::error_code ignored;
+  socket_.shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+  linger_timer_.expires_after(std::chrono::seconds(2));
+  linger_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
+    if (!error) self->close(self->close_reason_);
+  });
+  linger_read();
+}
+
+void Session::linger_read() {
+  // Discard whatever the client still sends until it closes its side.
+  if (closed_) return;
+  socket_.async_read_some(asio::buffer(read_buffer_),
+                          [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
+                            if (error) {
+                              self->close(self->close_reason_);
+                            } else {
+                              self->linger_read();
+                            }
+                          });
+}
+
+void Session::close(const std::string& reason) {
+  if (closed_) return;
+  closed_ = true;
+  net_log().info("session {}: {} disconnected: {}", id_, peer_, reason);
+  boost::system::error_code ignored;
+  socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
+  socket_.close(ignored);
+  linger_timer_.cancel();
+  context_.publisher.remove_session(*this);
+  if (on_closed_) on_closed_(id_);
+}
+
+}  // namespace tumble::net

@@ -1,0 +1,286 @@
+// The protocol on a real socket: handshake, requests and replies, pose
+// streams, and bad input that must get a clear error and harm nobody else.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "raw_client.h"
+#include "test_server.h"
+
+namespace tumble::test {
+namespace {
+
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
+    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
+    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
+
+bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
+  return (m.has_ack() && m.ack().request_id() == id) || (m.has_error() && m.error().request_id() == id) ||
+         (m.has_body_list() && m.body_list().request_id() == id) ||
+         (m.has_subscribed() && m.subscribed().request_id() == id);
+}
+
+ClientMessage force(std::uint64_t id, const std::string& body, double fx) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_apply_force()->mutable_body()->set_name(body);
+  m.mutable_apply_force()->mutable_force()->set_x(fx);
+  return m;
+}
+
+ClientMessage subscribe(std::uint64_t id, double rate_hz, std::initializer_list<const char*> bodies = {}) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_subscribe()->set_rate_hz(rate_hz);
+  for (const char* name : bodies) m.mutable_subscribe()->add_bodies()->set_name(name);
+  return m;
+}
+
+class ProtocolTest : public ::testing::Test {
+ protected:
+  TestServer server_{kScene};
+};
+
+TEST_F(ProtocolTest, HelloIsAnsweredByWelcome) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.connected());
+  const auto welcome = client.handshake();
+  ASSERT_TRUE(welcome && welcome->has_welcome()) << (welcome ? welcome->DebugString() : "no reply");
+  EXPECT_EQ(welcome->welcome().protocol_version(), 1u);
+  EXPECT_DOUBLE_EQ(welcome->welcome().tick_rate_hz(), 240);
+  EXPECT_EQ(welcome->welcome().body_count(), 2u);
+  EXPECT_EQ(welcome->welcome().server_version(), "test");
+}
+
+TEST_F(ProtocolTest, FirstMessageMustBeHello) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.send(force(5, "crate", 1)));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::HANDSHAKE_REQUIRED);
+  EXPECT_EQ(reply->error().request_id(), 5u);
+  EXPECT_TRUE(client.closed_by_server());
+}
+
+TEST_F(ProtocolTest, OtherProtocolVersionsAreRefused) {
+  RawClient client(server_.port());
+  ClientMessage hello;
+  hello.mutable_hello()->set_protocol_version(99);
+  ASSERT_TRUE(client.send(hello));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::UNSUPPORTED_VERSION);
+  EXPECT_NE(reply->error().message().find("99"), std::string::npos);
+  EXPECT_TRUE(client.closed_by_server());
+}
+
+TEST_F(ProtocolTest, ForceIsAckedWithTheTickItTookEffect) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  const std::uint64_t before = server_.sim().tick();
+  ASSERT_TRUE(client.send(force(42, "crate", 10)));
+  const auto reply = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 42); });
+  ASSERT_TRUE(reply && reply->has_ack()) << (reply ? reply->DebugString() : "no reply");
+  EXPECT_GT(reply->ack().applied_tick(), before);
+}
+
+TEST_F(ProtocolTest, SubscriberGetsTheCurrentStateAtOnceThenFramesAtItsRate) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(subscribe(7, 60, {"ball"})));
+  const auto subscribed = client.read();
+  ASSERT_TRUE(subscribed && subscribed->has_subscribed()) << (subscribed ? subscribed->DebugString() : "none");
+  EXPECT_EQ(subscribed->subscribed().request_id(), 7u);
+  EXPECT_EQ(subscribed->subscribed().period_ticks(), 4u);
+  EXPECT_DOUBLE_EQ(subscribed->subscribed().rate_hz(), 60);
+
+  std::vector<std::uint64_t> ticks;
+  for (int i = 0; i < 5; ++i) {
+    const auto frame = client.read();
+    ASSERT_TRUE(frame && frame->has_pose_frame());
+    const auto& f = frame->pose_frame();
+    EXPECT_EQ(f.subscription_id(), subscribed->subscribed().subscription_id());
+    ASSERT_EQ(f.ids_size(), 1);
+    ASSERT_EQ(f.positions_size(), 3);
+    ASSERT_EQ(f.orientations_size(), 4);
+    ASSERT_EQ(f.linear_velocities_size(), 3);
+    ASSERT_EQ(f.angular_velocities_size(), 3);
+    EXPECT_FLOAT_EQ(f.positions(0), 3.0f);
+    EXPECT_FLOAT_EQ(f.orientations(0), 1.0f);
+    EXPECT_NEAR(f.sim_time(), static_cast<double>(f.tick()) / 240.0, 1e-9);
+    ticks.push_back(f.tick());
+  }
+  // After the first frame, frames fall on multiples of the period.
+  for (std::size_t i = 1; i < ticks.size(); ++i) {
+    EXPECT_EQ(ticks[i] % 4, 0u) << "tick " << ticks[i];
+    EXPECT_GT(ticks[i], ticks[i - 1]);
+  }
+}
+
+TEST_F(ProtocolTest, AForceShowsInTheFrameOfItsAppliedTick) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(subscribe(1, 0, {"crate"})));  // every tick
+  ASSERT_TRUE(client.read_until([](const ServerMessage& m) { return m.has_subscribed(); }));
+  ClientMessage impulse;
+  impulse.set_request_id(2);
+  impulse.mutable_apply_impulse()->mutable_body()->set_name("crate");
+  impulse.mutable_apply_impulse()->mutable_impulse()->set_y(4);  // 4 N s on 2 kg: 2 m/s
+  ASSERT_TRUE(client.send(impulse));
+  const auto ack = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(ack && ack->has_ack());
+  const std::uint64_t applied = ack->ack().applied_tick();
+  const auto frame = client.read_until(
+      [&](const ServerMessage& m) { return m.has_pose_frame() && m.pose_frame().tick() >= applied; });
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->pose_frame().tick(), applied);
+  EXPECT_FLOAT_EQ(frame->pose_frame().linear_velocities(1), 2.0f);
+}
+
+TEST_F(ProtocolTest, UnknownBodyGetsAnErrorAndTheSessionGoesOn) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(force(3, "ghost", 1)));
+  const auto reply = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 3); });
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::UNKNOWN_BODY);
+  EXPECT_EQ(reply->error().message(), "no body 'ghost' in the world");
+
+  ASSERT_TRUE(client.send(subscribe(4, 30, {"ghost"})));
+  const auto sub = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 4); });
+  ASSERT_TRUE(sub && sub->has_error());
+  EXPECT_EQ(sub->error().code(), tumble::v1::UNKNOWN_BODY);
+
+  ASSERT_TRUE(client.send(force(5, "crate", 1)));
+  const auto ok = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 5); });
+  ASSERT_TRUE(ok && ok->has_ack());
+}
+
+TEST_F(ProtocolTest, NaNForceGetsInvalidArgumentAndTheSessionGoesOn) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(force(8, "crate", std::numeric_limits<double>::quiet_NaN())));
+  const auto reply = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 8); });
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::INVALID_ARGUMENT);
+  ASSERT_TRUE(client.send(force(9, "crate", 1)));
+  const auto ok = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 9); });
+  ASSERT_TRUE(ok && ok->has_ack());
+  EXPECT_TRUE(std::isfinite(server_.sim().tick()));
+}
+
+TEST_F(ProtocolTest, AnEmptyEnvelopeIsAnUnknownMessage) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ClientMessage empty;
+  empty.set_request_id(11);
+  ASSERT_TRUE(client.send(empty));
+  const auto reply = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 11); });
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::UNKNOWN_MESSAGE);
+}
+
+// Bad input on one connection: a clear error, that connection closed, and a
+// subscriber on another connection keeps receiving frames throughout.
+class BadInputTest : public ProtocolTest {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(watcher_.handshake());
+    ASSERT_TRUE(watcher_.send(subscribe(1, 60)));
+    ASSERT_TRUE(watcher_.read_until([](const ServerMessage& m) { return m.has_subscribed(); }));
+  }
+
+  void ExpectWatcherStillServed() {
+    std::uint64_t first = 0;
+    for (int i = 0; i < 3; ++i) {
+      const auto frame = watcher_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+      ASSERT_TRUE(frame) << "the other subscriber stopped receiving frames";
+      if (i == 0) first = frame->pose_frame().tick();
+      if (i == 2) {
+        EXPECT_GT(frame->pose_frame().tick(), first);
+      }
+    }
+  }
+
+  RawClient watcher_{server_.port()};
+};
+
+TEST_F(BadInputTest, GarbageBytesGetMalformedFrameAndAClose) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  // A length of 6 followed by six bytes that are no protobuf message (field 0 is invalid).
+  ASSERT_TRUE(client.send_bytes(std::string("\x06\x00\xff\xff\xff\xff\xff", 7)));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::MALFORMED_FRAME);
+  EXPECT_TRUE(client.closed_by_server());
+  ExpectWatcherStillServed();
+}
+
+TEST_F(BadInputTest, OversizedFrameIsRefusedWithoutReadingIt) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  // Announce 4 GiB and send a little of it: the server must refuse from the prefix alone.
+  ASSERT_TRUE(client.send_bytes(std::string("\x80\x80\x80\x80\x10", 5) + std::string(1000, 'x')));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::FRAME_TOO_LARGE);
+  EXPECT_NE(reply->error().message().find("4294967296"), std::string::npos) << reply->error().message();
+  EXPECT_TRUE(client.closed_by_server());
+  ExpectWatcherStillServed();
+}
+
+TEST_F(BadInputTest, FrameJustOverTheLimitIsRefused) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ClientMessage big;
+  big.set_request_id(2);
+  big.mutable_hello()->set_client_name(std::string(wire::kDefaultMaxFrameBytes, 'n'));
+  ASSERT_TRUE(client.send(big));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::FRAME_TOO_LARGE);
+  EXPECT_TRUE(client.closed_by_server());
+  ExpectWatcherStillServed();
+}
+
+TEST_F(BadInputTest, BadVarintPrefixIsMalformed) {
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send_bytes(std::string(12, '\xff')));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::MALFORMED_FRAME);
+  EXPECT_TRUE(client.closed_by_server());
+  ExpectWatcherStillServed();
+}
+
+TEST_F(BadInputTest, AClientThatVanishesMidFrameHarmsNobody) {
+  {
+    RawClient client(server_.port());
+    ASSERT_TRUE(client.handshake());
+    ASSERT_TRUE(client.send(subscribe(2, 0)));
+    ASSERT_TRUE(client.send_bytes("\x40partial"));
+  }  // closed without reading
+  ExpectWatcherStillServed();
+  RawClient next(server_.port());
+  EXPECT_TRUE(next.handshake());
+}
+
+TEST_F(BadInputTest, AClientThatNeverReadsDoesNotGrowTheServer) {
+  // Subscribe to everything every tick and never read: frames are
+  // latest-wins, so the server's queue for this client stays one frame deep.
+  RawClient sleeper(server_.port());
+  ASSERT_TRUE(sleeper.handshake());
+  ASSERT_TRUE(sleeper.send(subscribe(2, 0)));
+  const std::uint64_t start = server_.sim().tick();
+  while (server_.sim().tick() < start + 240) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ExpectWatcherStillServed();
+}
+
+}  // namespace
+}  // namespace tumble::test

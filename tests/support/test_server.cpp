@@ -1,0 +1,50 @@
+#include "test_server.h"
+
+#include <future>
+#include <stdexcept>
+
+#include "sim/scene_file.h"
+
+namespace tumble::test {
+
+TestServer::TestServer(const std::string& scene_json, double tick_rate_hz, net::SessionLimits limits) {
+  tumble::v1::Scene scene;
+  if (auto status = sim::parse_scene_json(scene_json, &scene); !status.ok()) {
+    throw std::runtime_error("test scene: " + status.message());
+  }
+  sim::SimConfig config;
+  config.tick_rate_hz = tick_rate_hz;
+  if (auto status = sim::Simulation::create(scene, config, &sim_); !status.ok()) {
+    throw std::runtime_error("test scene: " + status.message());
+  }
+  net::ServerConfig server_config;
+  server_config.port = 0;
+  server_config.limits = limits;
+  server_config.server_version = "test";
+  server_ = std::make_unique<net::Server>(io_, *sim_, server_config);
+  if (auto status = server_->start(); !status.ok()) throw std::runtime_error(status.message());
+  port_ = server_->port();
+  sim_->start();
+  io_thread_ = std::thread([this] {
+    auto guard = boost::asio::make_work_guard(io_);
+    io_.run();
+  });
+}
+
+TestServer::~TestServer() {
+  run_on_io([this] { server_->stop(); });
+  io_.stop();
+  io_thread_.join();
+  sim_->stop();
+}
+
+void TestServer::run_on_io(const std::function<void()>& task) {
+  std::promise<void> done;
+  boost::asio::post(io_, [&] {
+    task();
+    done.set_value();
+  });
+  done.get_future().wait();
+}
+
+}  // namespace tumble::test

@@ -1,0 +1,36 @@
+// A tumbled inside the test process: a Simulation and a Server on an
+// ephemeral port of 127.0.0.1, with the I/O on a thread of its own.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "net/asio.h"
+#include "net/server.h"
+#include "sim/simulation.h"
+
+namespace tumble::test {
+
+class TestServer {
+ public:
+  // Loads `scene_json` and starts stepping at `tick_rate_hz`.
+  explicit TestServer(const std::string& scene_json, double tick_rate_hz = 240,
+                      net::SessionLimits limits = net::SessionLimits{});
+  ~TestServer();
+
+  std::uint16_t port() const { return port_; }
+  sim::Simulation& sim() { return *sim_; }
+
+  // Runs `task` on the I/O thread and waits for it.
+  void run_on_io(const std::function<void()>& task);
+
+ private:
+  boost::asio::io_context io_;
+  std::unique_ptr<sim::Simulation> sim_;
+  std::unique_ptr<net::Server> server_;
+  std::thread io_thread_;
+  std::uint16_t port_ = 0;
+};
+
+}  // namespace tumble::test
