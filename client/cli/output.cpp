@@ -1,0 +1,232 @@
+#include "output.h"
+
+#include <algorithm>
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+namespace tumble::cli {
+namespace {
+
+// `value` with `decimals` digits after the point; a value that rounds to
+// zero prints without a minus sign.
+std::string fixed(double value, int decimals) {
+  char text[64];
+  const int length = std::snprintf(text, sizeof text, "%.*f", decimals, value);
+  std::string out(text, static_cast<std::size_t>(std::clamp(length, 0, static_cast<int>(sizeof text) - 1)));
+  if (out.size() > 1 && out.front() == '-' && out.find_first_not_of("0.", 1) == std::string::npos) out.erase(0, 1);
+  return out;
+}
+
+// "(x, y, z)" or "[w, x, y, z]" with the given brackets and decimals.
+template <typename Values>
+std::string tuple(const Values& values, int decimals, char open, char close) {
+  std::string out(1, open);
+  bool first = true;
+  for (const auto value : values) {
+    if (!first) out += ", ";
+    out += fixed(static_cast<double>(value), decimals);
+    first = false;
+  }
+  out += close;
+  return out;
+}
+
+// The double nearest to the shortest decimal that reads back as `value`,
+// so JSON shows 0.1 for 0.1f rather than 0.10000000149011612.
+double shortest(float value) {
+  if (!std::isfinite(value)) return static_cast<double>(value);
+  char text[32];
+  const auto written = std::to_chars(text, text + sizeof text, value);
+  double out = 0;
+  std::from_chars(text, written.ptr, out);
+  return out;
+}
+
+template <std::size_t N>
+Json json_array(const std::array<float, N>& values) {
+  Json out = Json::array();
+  for (float value : values) out.push_back(shortest(value));
+  return out;
+}
+
+Json json_array(const tumble::v1::Vec3& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+Json json_array(const tumble::v1::Quat& q) { return Json::array({q.w(), q.x(), q.y(), q.z()}); }
+
+std::string display_name(std::uint32_t id, const std::string& name) {
+  return name.empty() ? "#" + std::to_string(id) : name;
+}
+
+std::string name_of(std::uint32_t id, const BodyNames& names) {
+  const auto found = names.find(id);
+  return found == names.end() ? std::string() : found->second;
+}
+
+std::string pad_right(const std::string& text, std::size_t width) {
+  return text + std::string(width - std::min(width, text.size()), ' ');
+}
+
+std::string pad_left(const std::string& text, std::size_t width) {
+  return std::string(width - std::min(width, text.size()), ' ') + text;
+}
+
+// Appends `value` on one line with a space after each ':' and ',', the
+// way the protocol's documentation writes JSON.
+void append_json(const Json& value, std::string& out) {
+  if (value.is_object()) {
+    out += '{';
+    bool first = true;
+    for (const auto& item : value.items()) {
+      if (!first) out += ", ";
+      append_json(Json(item.key()), out);
+      out += ": ";
+      append_json(item.value(), out);
+      first = false;
+    }
+    out += '}';
+  } else if (value.is_array()) {
+    out += '[';
+    bool first = true;
+    for (const Json& element : value) {
+      if (!first) out += ", ";
+      append_json(element, out);
+      first = false;
+    }
+    out += ']';
+  } else {
+    out += value.dump(-1, ' ', false, Json::error_handler_t::replace);
+  }
+}
+
+}  // namespace
+
+BodyNames body_names(const tumble::v1::BodyList& list) {
+  BodyNames names;
+  for (const auto& body : list.bodies()) names[body.id()] = body.name();
+  return names;
+}
+
+std::string shape_name(const tumble::v1::Shape& shape) {
+  switch (shape.kind_case()) {
+    case tumble::v1::Shape::kBox: return "box";
+    case tumble::v1::Shape::kSphere: return "sphere";
+    case tumble::v1::Shape::kCapsule: return "capsule";
+    case tumble::v1::Shape::kPoints: return "points";
+    case tumble::v1::Shape::KIND_NOT_SET: break;
+  }
+  return "";
+}
+
+std::string format_ack(const tumble::v1::Ack& ack) {
+  return "applied at tick " + std::to_string(ack.applied_tick()) + "\n";
+}
+
+Json ack_json(const tumble::v1::Ack& ack) {
+  Json out = Json::object();
+  out["applied_tick"] = ack.applied_tick();
+  out["request_id"] = ack.request_id();
+  return out;
+}
+
+std::string format_body_table(const tumble::v1::BodyList& list) {
+  constexpr std::size_t kColumns = 6;
+  using Row = std::array<std::string, kColumns>;
+  // Numbers line up on the right, words on the left.
+  constexpr std::array<bool, kColumns> kRightAligned = {true, false, false, true, false, true};
+
+  std::vector<Row> rows;
+  rows.push_back({"ID", "NAME", "SHAPE", "MASS (kg)", "POSITION (m)", "SPEED (m/s)"});
+  for (const auto& body : list.bodies()) {
+    const auto& p = body.position();
+    const auto& v = body.linear_velocity();
+    const double speed = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
+    const std::string shape = shape_name(body.shape());
+    rows.push_back({std::to_string(body.id()), display_name(body.id(), body.name()), shape.empty() ? "-" : shape,
+                    fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3)});
+  }
+
+  std::array<std::size_t, kColumns> widths{};
+  for (const Row& row : rows) {
+    for (std::size_t c = 0; c < kColumns; ++c) widths[c] = std::max(widths[c], row[c].size());
+  }
+  std::string out;
+  for (const Row& row : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < kColumns; ++c) {
+      if (c > 0) line += "  ";
+      line += kRightAligned[c] ? pad_left(row[c], widths[c]) : pad_right(row[c], widths[c]);
+    }
+    line.erase(line.find_last_not_of(' ') + 1);
+    out += line + "\n";
+  }
+  return out;
+}
+
+Json body_list_json(const tumble::v1::BodyList& list) {
+  Json bodies = Json::array();
+  for (const auto& body : list.bodies()) {
+    Json entry = Json::object();
+    entry["id"] = body.id();
+    entry["name"] = body.name();
+    const std::string shape = shape_name(body.shape());
+    entry["shape"] = shape.empty() ? Json(nullptr) : Json(shape);
+    entry["mass"] = body.mass();
+    entry["position"] = json_array(body.position());
+    entry["orientation"] = json_array(body.orientation());
+    entry["linear_velocity"] = json_array(body.linear_velocity());
+    entry["angular_velocity"] = json_array(body.angular_velocity());
+    bodies.push_back(std::move(entry));
+  }
+  Json out = Json::object();
+  out["tick"] = list.tick();
+  out["bodies"] = std::move(bodies);
+  return out;
+}
+
+std::string format_pose_sample(const client::PoseSample& sample, const BodyNames& names) {
+  std::string out = "tick " + std::to_string(sample.tick) + "  t=" + fixed(sample.sim_time, 3) + "s\n";
+  std::vector<std::string> labels;
+  std::size_t width = 0;
+  for (const client::BodyPose& pose : sample.bodies) {
+    labels.push_back(display_name(pose.id, name_of(pose.id, names)));
+    width = std::max(width, labels.back().size());
+  }
+  for (std::size_t i = 0; i < sample.bodies.size(); ++i) {
+    const client::BodyPose& pose = sample.bodies[i];
+    out += "  " + pad_right(labels[i], width) + "  pos " + tuple(pose.position, 3, '(', ')') + "  quat " +
+           tuple(pose.orientation, 4, '[', ']') + "  v " + tuple(pose.linear_velocity, 3, '(', ')') + "  w " +
+           tuple(pose.angular_velocity, 3, '(', ')') + "\n";
+  }
+  return out;
+}
+
+Json pose_sample_json(const client::PoseSample& sample, const BodyNames& names) {
+  Json bodies = Json::array();
+  for (const client::BodyPose& pose : sample.bodies) {
+    Json entry = Json::object();
+    entry["id"] = pose.id;
+    entry["name"] = name_of(pose.id, names);
+    entry["position"] = json_array(pose.position);
+    entry["orientation"] = json_array(pose.orientation);
+    entry["linear_velocity"] = json_array(pose.linear_velocity);
+    entry["angular_velocity"] = json_array(pose.angular_velocity);
+    bodies.push_back(std::move(entry));
+  }
+  Json out = Json::object();
+  out["tick"] = sample.tick;
+  out["time"] = sample.sim_time;
+  out["bodies"] = std::move(bodies);
+  return out;
+}
+
+std::string json_line(const Json& value) {
+  std::string out;
+  append_json(value, out);
+  out += '\n';
+  return out;
+}
+
+}  // namespace tumble::cli

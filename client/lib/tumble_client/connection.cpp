@@ -1,0 +1,362 @@
+#include "tumble_client/connection.h"
+
+#include <array>
+#include <deque>
+#include <optional>
+#include <sstream>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <boost/asio.hpp>
+
+#include "wire/frame.h"
+
+namespace tumble::client {
+namespace {
+
+namespace asio = boost::asio;
+using asio::ip::tcp;
+using Clock = std::chrono::steady_clock;
+using ErrorCode = boost::system::error_code;
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+// When a call must give up, and the timeout it came from (for messages).
+struct Deadline {
+  std::optional<Clock::time_point> at;  // none: never
+  Timeout timeout{};
+};
+
+Deadline deadline_after(Timeout timeout) {
+  if (timeout < Timeout::zero()) timeout = Timeout::zero();
+  const Clock::time_point now = Clock::now();
+  if (timeout >= Clock::time_point::max() - now) return Deadline{std::nullopt, timeout};
+  return Deadline{now + timeout, timeout};
+}
+
+// "timed out after 5 s waiting for the reply to ListBodies".
+Failure timed_out(const Deadline& deadline, const std::string& activity) {
+  std::ostringstream text;
+  text << "timed out after " << std::chrono::duration<double>(deadline.timeout).count() << " s " << activity;
+  return Failure{FailureKind::timeout, text.str()};
+}
+
+// The name of the message an envelope's `kind` oneof holds, e.g. "ListBodies".
+std::string kind_name(const google::protobuf::Message& envelope) {
+  const auto* oneof = envelope.GetDescriptor()->FindOneofByName("kind");
+  const auto* field = oneof ? envelope.GetReflection()->GetOneofFieldDescriptor(envelope, oneof) : nullptr;
+  if (field == nullptr || field->message_type() == nullptr) return "an empty message";
+  return field->message_type()->name();
+}
+
+// The reply kind the protocol pairs with a request kind; KIND_NOT_SET when
+// any reply that echoes the request id will do.
+ServerMessage::KindCase expected_reply(ClientMessage::KindCase request) {
+  switch (request) {
+    case ClientMessage::kApplyForce:
+    case ClientMessage::kApplyTorque:
+    case ClientMessage::kApplyImpulse:
+    case ClientMessage::kUnsubscribe:
+      return ServerMessage::kAck;
+    case ClientMessage::kListBodies:
+      return ServerMessage::kBodyList;
+    case ClientMessage::kSubscribe:
+      return ServerMessage::kSubscribed;
+    default:
+      return ServerMessage::KIND_NOT_SET;
+  }
+}
+
+// The request id a reply echoes; 0 for messages that are not replies.
+std::uint64_t echoed_request_id(const ServerMessage& message) {
+  switch (message.kind_case()) {
+    case ServerMessage::kAck: return message.ack().request_id();
+    case ServerMessage::kError: return message.error().request_id();
+    case ServerMessage::kBodyList: return message.body_list().request_id();
+    case ServerMessage::kSubscribed: return message.subscribed().request_id();
+    default: return 0;
+  }
+}
+
+// Moves one payload out of a reply, e.g. the Ack out of an Ack reply.
+template <typename Payload>
+Result<Payload> take_payload(Result<ServerMessage> reply, Payload* (ServerMessage::*payload)()) {
+  if (!reply) return reply.failure();
+  return std::move(*((reply.value()).*payload)());
+}
+
+}  // namespace
+
+// Everything a connection owns. Lives on the heap so Connection can move
+// while Asio objects stay where their handlers expect them.
+struct Connection::State {
+  explicit State(Endpoint to) : endpoint(std::move(to)) {}
+
+  // Runs the I/O context until `done` or the deadline. When the deadline
+  // passes first, calls `cancel` and runs on until the cancelled operation's
+  // handler has run (it may still have completed normally).
+  template <typename Cancel>
+  void run(const bool& done, const Deadline& deadline, Cancel cancel);
+
+  // Remembers `failure` as the reason the stream is unusable and returns it.
+  Failure fail(Failure failure) {
+    broken = failure;
+    return failure;
+  }
+
+  // Writes one frame. A write cut short leaves half a frame on the wire, so
+  // any failure here breaks the connection.
+  std::optional<Failure> write(const ClientMessage& message, const Deadline& deadline);
+
+  // Reads the next whole message. A timeout leaves the connection usable:
+  // no bytes are lost, a partial frame stays buffered.
+  Result<ServerMessage> read(const Deadline& deadline, const std::string& activity);
+
+  Endpoint endpoint;
+  asio::io_context io{1};
+  tcp::socket socket{io};
+  wire::FrameReader reader{kMaxInboundFrameBytes};
+  std::array<char, 64 * 1024> read_buffer{};
+  std::deque<ServerMessage> unsolicited;  // pose frames and connection errors not yet handed over
+  std::uint64_t next_request_id = 1;
+  tumble::v1::Welcome welcome;
+  std::optional<Failure> broken;  // set once the stream cannot be used; every later call returns it
+};
+
+template <typename Cancel>
+void Connection::State::run(const bool& done, const Deadline& deadline, Cancel cancel) {
+  io.restart();
+  while (!done) {
+    const std::size_t ran = deadline.at ? io.run_one_until(*deadline.at) : io.run_one();
+    if (ran == 0) break;
+  }
+  if (done) return;
+  cancel();
+  io.restart();
+  while (!done && io.run_one() != 0) {
+  }
+}
+
+std::optional<Failure> Connection::State::write(const ClientMessage& message, const Deadline& deadline) {
+  if (broken) return broken;
+  const std::string bytes = wire::encode_frame(message);
+  bool done = false;
+  ErrorCode error = asio::error::operation_aborted;
+  asio::async_write(socket, asio::buffer(bytes), [&](const ErrorCode& result, std::size_t) {
+    error = result;
+    done = true;
+  });
+  run(done, deadline, [this] {
+    ErrorCode ignored;
+    socket.cancel(ignored);
+  });
+  if (error == asio::error::operation_aborted) return fail(timed_out(deadline, "sending " + kind_name(message)));
+  if (error) {
+    return fail(Failure{FailureKind::closed, "connection to " + to_string(endpoint) + " lost: " + error.message()});
+  }
+  return std::nullopt;
+}
+
+Result<ServerMessage> Connection::State::read(const Deadline& deadline, const std::string& activity) {
+  for (;;) {
+    if (broken) return *broken;
+    std::string_view body;
+    switch (reader.next(body)) {
+      case wire::FrameStatus::frame: {
+        ServerMessage message;
+        if (!message.ParseFromArray(body.data(), static_cast<int>(body.size()))) {
+          return fail(Failure{FailureKind::protocol, "the server sent a frame of " + std::to_string(body.size()) +
+                                                         " bytes that is not a tumble.v1.ServerMessage"});
+        }
+        return message;
+      }
+      case wire::FrameStatus::too_large:
+        return fail(Failure{FailureKind::protocol, "the server announced a frame of " +
+                                                       std::to_string(reader.declared_bytes()) +
+                                                       " bytes, over the client's limit of " +
+                                                       std::to_string(reader.max_frame_bytes()) + " bytes"});
+      case wire::FrameStatus::bad_length:
+        return fail(Failure{FailureKind::protocol, "the server sent a frame length that is not a valid varint"});
+      case wire::FrameStatus::need_more:
+        break;
+    }
+
+    bool done = false;
+    ErrorCode error = asio::error::operation_aborted;
+    std::size_t received = 0;
+    socket.async_read_some(asio::buffer(read_buffer), [&](const ErrorCode& result, std::size_t bytes) {
+      error = result;
+      received = bytes;
+      done = true;
+    });
+    run(done, deadline, [this] {
+      ErrorCode ignored;
+      socket.cancel(ignored);
+    });
+    if (error == asio::error::operation_aborted) return timed_out(deadline, activity);
+    if (error == asio::error::eof) return fail(Failure{FailureKind::closed, "connection closed by the server"});
+    if (error) {
+      return fail(Failure{FailureKind::closed, "connection to " + to_string(endpoint) + " lost: " + error.message()});
+    }
+    reader.append(read_buffer.data(), received);
+  }
+}
+
+Result<Connection> Connection::connect(const Endpoint& endpoint, const std::string& client_name,
+                                       const std::string& token, Timeout timeout) {
+  auto state = std::make_unique<State>(endpoint);
+  const Deadline deadline = deadline_after(timeout);
+  const std::string where = to_string(endpoint);
+
+  // An address is used as it is. A host name goes to the system resolver,
+  // which runs on a thread of Asio's and cannot be interrupted: its own
+  // timeouts bound a hung lookup.
+  std::vector<tcp::endpoint> addresses;
+  ErrorCode not_an_address;
+  const asio::ip::address address = asio::ip::make_address(endpoint.host, not_an_address);
+  if (!not_an_address) {
+    addresses.emplace_back(address, endpoint.port);
+  } else {
+    tcp::resolver resolver(state->io);
+    bool done = false;
+    ErrorCode error = asio::error::operation_aborted;
+    resolver.async_resolve(endpoint.host, std::to_string(endpoint.port), tcp::resolver::numeric_service,
+                           [&](const ErrorCode& result, const tcp::resolver::results_type& found) {
+                             error = result;
+                             for (const auto& entry : found) addresses.push_back(entry.endpoint());
+                             done = true;
+                           });
+    state->run(done, deadline, [&resolver] { resolver.cancel(); });
+    if (error == asio::error::operation_aborted) return timed_out(deadline, "resolving '" + endpoint.host + "'");
+    if (error) return Failure{FailureKind::connect, "cannot resolve '" + endpoint.host + "': " + error.message()};
+  }
+  {
+    bool done = false;
+    ErrorCode error = asio::error::operation_aborted;
+    asio::async_connect(state->socket, addresses, [&](const ErrorCode& result, const tcp::endpoint&) {
+      error = result;
+      done = true;
+    });
+    // Closing, not cancelling: a cancelled attempt would move on to the
+    // next address instead of stopping.
+    state->run(done, deadline, [&state] {
+      ErrorCode ignored;
+      state->socket.close(ignored);
+    });
+    if (error == asio::error::operation_aborted) return timed_out(deadline, "connecting to " + where);
+    if (error) return Failure{FailureKind::connect, "cannot connect to " + where + ": " + error.message()};
+  }
+  ErrorCode ignored;
+  state->socket.set_option(tcp::no_delay(true), ignored);
+
+  ClientMessage hello;
+  hello.set_request_id(state->next_request_id++);
+  hello.mutable_hello()->set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
+  hello.mutable_hello()->set_client_name(client_name);
+  hello.mutable_hello()->set_token(token);
+  if (auto failure = state->write(hello, deadline)) return *failure;
+
+  auto reply = state->read(deadline, "waiting for the server's Welcome");
+  if (!reply) return reply.failure();
+  if (reply->has_error()) return server_failure(reply->error());
+  if (!reply->has_welcome()) {
+    return Failure{FailureKind::protocol, "the server answered Hello with " + kind_name(reply.value())};
+  }
+  state->welcome = std::move(*reply->mutable_welcome());
+  return Connection(std::move(state));
+}
+
+Connection::Connection(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Connection::Connection(Connection&& other) noexcept = default;
+Connection& Connection::operator=(Connection&& other) noexcept = default;
+Connection::~Connection() = default;
+
+const tumble::v1::Welcome& Connection::welcome() const { return state_->welcome; }
+
+const Endpoint& Connection::endpoint() const { return state_->endpoint; }
+
+Result<ServerMessage> Connection::request(ClientMessage message, Timeout timeout) {
+  State& state = *state_;
+  const std::uint64_t id = state.next_request_id++;
+  message.set_request_id(id);
+  const Deadline deadline = deadline_after(timeout);
+  if (auto failure = state.write(message, deadline)) return *failure;
+
+  const std::string name = kind_name(message);
+  const std::string activity = "waiting for the reply to " + name;
+  for (;;) {
+    auto received = state.read(deadline, activity);
+    if (!received) return received;
+    ServerMessage& reply = received.value();
+    if (reply.has_pose_frame()) {
+      state.unsolicited.push_back(std::move(reply));
+      continue;
+    }
+    const std::uint64_t echoed = echoed_request_id(reply);
+    if (reply.has_error() && echoed == 0) return server_failure(reply.error());
+    if (echoed != id) continue;  // a late reply to a request that timed out
+    if (reply.has_error()) return server_failure(reply.error());
+    const ServerMessage::KindCase expected = expected_reply(message.kind_case());
+    if (expected != ServerMessage::KIND_NOT_SET && reply.kind_case() != expected) {
+      return state.fail(Failure{FailureKind::protocol, "the server answered " + name + " with " + kind_name(reply)});
+    }
+    return received;
+  }
+}
+
+Result<tumble::v1::Ack> Connection::apply_force(const tumble::v1::ApplyForce& force, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_apply_force() = force;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::apply_torque(const tumble::v1::ApplyTorque& torque, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_apply_torque() = torque;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::apply_impulse(const tumble::v1::ApplyImpulse& impulse, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_apply_impulse() = impulse;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::BodyList> Connection::list_bodies(Timeout timeout) {
+  ClientMessage message;
+  message.mutable_list_bodies();
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_body_list);
+}
+
+Result<tumble::v1::Subscribed> Connection::subscribe(const tumble::v1::Subscribe& subscribe, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_subscribe() = subscribe;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_subscribed);
+}
+
+Result<tumble::v1::Ack> Connection::unsubscribe(std::uint32_t subscription_id, Timeout timeout) {
+  ClientMessage message;
+  message.mutable_unsubscribe()->set_subscription_id(subscription_id);
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<ServerMessage> Connection::next_message(Timeout timeout) {
+  State& state = *state_;
+  if (!state.unsolicited.empty()) {
+    ServerMessage message = std::move(state.unsolicited.front());
+    state.unsolicited.pop_front();
+    return message;
+  }
+  const Deadline deadline = deadline_after(timeout);
+  for (;;) {
+    auto received = state.read(deadline, "waiting for a message from the server");
+    if (!received) return received;
+    const ServerMessage& message = received.value();
+    if (message.has_pose_frame()) return received;
+    if (message.has_error() && message.error().request_id() == 0) return received;
+    // Anything else is a late reply to a request that timed out.
+  }
+}
+
+}  // namespace tumble::client

@@ -1,0 +1,63 @@
+#include "tumble_client/pose_sample.h"
+
+#include <string>
+
+namespace tumble::client {
+namespace {
+
+using FloatArray = google::protobuf::RepeatedField<float>;
+
+// A failure unless `values` holds `width` floats for each of `count` bodies.
+bool has_width(const FloatArray& values, std::size_t count, std::size_t width) {
+  return static_cast<std::size_t>(values.size()) == count * width;
+}
+
+template <std::size_t N>
+std::array<float, N> slice(const FloatArray& values, std::size_t body) {
+  std::array<float, N> out{};
+  for (std::size_t k = 0; k < N; ++k) out[k] = values.Get(static_cast<int>(body * N + k));
+  return out;
+}
+
+}  // namespace
+
+Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
+  const auto count = static_cast<std::size_t>(frame.ids_size());
+  struct Field {
+    const FloatArray& values;
+    std::size_t width;
+    const char* name;
+  };
+  const Field fields[] = {
+      {frame.positions(), 3, "positions"},
+      {frame.orientations(), 4, "orientations"},
+      {frame.linear_velocities(), 3, "linear_velocities"},
+      {frame.angular_velocities(), 3, "angular_velocities"},
+  };
+  for (const Field& field : fields) {
+    if (!has_width(field.values, count, field.width)) {
+      return Failure{FailureKind::protocol, "the server sent a PoseFrame with " + std::to_string(count) +
+                                                " ids but " + std::to_string(field.values.size()) + " " +
+                                                field.name + " (expected " + std::to_string(count * field.width) +
+                                                ")"};
+    }
+  }
+
+  PoseSample sample;
+  sample.subscription_id = frame.subscription_id();
+  sample.tick = frame.tick();
+  sample.sim_time = frame.sim_time();
+  sample.bodies.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    BodyPose pose;
+    pose.id = frame.ids(static_cast<int>(i));
+    pose.position = slice<3>(frame.positions(), i);
+    pose.orientation = slice<4>(frame.orientations(), i);
+    pose.linear_velocity = slice<3>(frame.linear_velocities(), i);
+    pose.angular_velocity = slice<3>(frame.angular_velocities(), i);
+    sample.bodies.push_back(pose);
+  }
+  return sample;
+}
+
+}  // namespace tumble::client

@@ -1,0 +1,35 @@
+// PoseSample: a PoseFrame's packed arrays unpacked into one record per body.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "tumble/v1/protocol.pb.h"
+#include "tumble_client/result.h"
+
+namespace tumble::client {
+
+// One body's state as the server sent it, in float32 like the wire. All
+// vectors are in the world frame.
+struct BodyPose {
+  std::uint32_t id = 0;
+  std::array<float, 3> position{};          // m, centre of mass
+  std::array<float, 4> orientation{};       // unit quaternion, body to world, [w, x, y, z]
+  std::array<float, 3> linear_velocity{};   // m/s
+  std::array<float, 3> angular_velocity{};  // rad/s
+};
+
+// The subscribed bodies after the step of `tick`, in the frame's order.
+struct PoseSample {
+  std::uint32_t subscription_id = 0;
+  std::uint64_t tick = 0;
+  double sim_time = 0;  // s
+  std::vector<BodyPose> bodies;
+};
+
+// Unpacks `frame`. Fails with kind protocol when an array's length is not
+// the number of ids times its width (3 or 4).
+Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame);
+
+}  // namespace tumble::client

@@ -1,0 +1,79 @@
+// ScriptedServer: a one-connection TCP server on 127.0.0.1 that plays a
+// test's script on its own thread, so Connection can be tested against
+// exactly the messages, bytes and closes a script chooses.
+//
+// Every operation of the server side gives up after a few seconds, so a
+// broken client fails its test instead of hanging it.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string_view>
+#include <thread>
+
+#include <boost/asio.hpp>
+
+#include "tumble/v1/protocol.pb.h"
+#include "tumble_client/endpoint.h"
+#include "wire/frame.h"
+
+namespace tumble::client::testing {
+
+// The server's end of the one connection. Used only by the script's thread.
+class ServerPeer {
+ public:
+  ServerPeer(boost::asio::io_context& io, boost::asio::ip::tcp::socket socket);
+
+  // The next message from the client; none when the client closed, sent
+  // something unparsable, or sent nothing in time.
+  std::optional<tumble::v1::ClientMessage> receive();
+
+  // Sends one framed message.
+  void send(const tumble::v1::ServerMessage& message);
+
+  // Sends raw bytes, framed or not.
+  void send_bytes(std::string_view bytes);
+
+  // Waits until the client closes its end (or the time limit passes).
+  void wait_for_close();
+
+  // Closes the connection.
+  void close();
+
+ private:
+  // Starts one async operation through `start` and runs it to completion or
+  // the time limit; returns its error (timed_out at the limit).
+  template <typename Start>
+  boost::system::error_code run(Start start, std::size_t& transferred);
+
+  boost::asio::io_context& io_;
+  boost::asio::ip::tcp::socket socket_;
+  wire::FrameReader reader_;
+  char buffer_[4096];
+};
+
+class ScriptedServer {
+ public:
+  using Script = std::function<void(ServerPeer& peer)>;
+
+  // Listens on 127.0.0.1 at a free port, then on a thread accepts one
+  // connection and runs `script` on it.
+  explicit ScriptedServer(Script script);
+
+  // Waits for the script to finish.
+  ~ScriptedServer();
+
+  ScriptedServer(const ScriptedServer&) = delete;
+  ScriptedServer& operator=(const ScriptedServer&) = delete;
+
+  // Where to connect.
+  Endpoint endpoint() const { return endpoint_; }
+
+ private:
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  Endpoint endpoint_;
+  std::thread thread_;
+};
+
+}  // namespace tumble::client::testing
