@@ -1,0 +1,205 @@
+// The tumble CLI against the real tumbled, as a user runs them: every
+// number checked against the closed-form answer for a free body.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "tumbled_process.h"
+
+namespace tumble::test {
+namespace {
+
+using nlohmann::json;
+
+// Zero gravity, so every motion comes from the commands alone; the ball is
+// far out of the crate's way (the crate moves in x and y, the ball in z).
+const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
+    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
+    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [0, 0, 50]}]})";
+
+constexpr double kDt = 1.0 / 240.0;
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(server_.started()) << server_.log(); }
+
+  // Runs a --json command that must succeed and print one JSON object.
+  json run_json(std::vector<std::string> args) {
+    args.insert(args.begin(), "--json");
+    const CommandResult result = server_.cli(args);
+    EXPECT_EQ(result.exit_code, 0) << "stderr: " << result.err;
+    const json parsed = json::parse(result.out, nullptr, false);
+    EXPECT_FALSE(parsed.is_discarded()) << "stdout: " << result.out;
+    return parsed;
+  }
+
+  // The body list once the server has stepped at least to `tick`.
+  json bodies_at_or_after(std::uint64_t tick) {
+    for (int attempt = 0; attempt < 600; ++attempt) {
+      json list = run_json({"bodies"});
+      if (list.value("tick", std::uint64_t{0}) >= tick) return list;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    ADD_FAILURE() << "the server never reached tick " << tick;
+    return {};
+  }
+
+  static const json& body(const json& list, const std::string& name) {
+    for (const json& b : list["bodies"]) {
+      if (b["name"] == name) return b;
+    }
+    static const json kNone;
+    ADD_FAILURE() << "no body " << name << " in " << list.dump();
+    return kNone;
+  }
+
+  TumbledProcess server_{kScene};
+};
+
+TEST_F(CliTest, BodiesListsTheScene) {
+  const json list = run_json({"bodies"});
+  ASSERT_EQ(list["bodies"].size(), 2u);
+  const json& crate = body(list, "crate");
+  EXPECT_EQ(crate["shape"], "box");
+  EXPECT_DOUBLE_EQ(crate["mass"].get<double>(), 2.0);
+  EXPECT_EQ(crate["orientation"], json::array({1.0, 0.0, 0.0, 0.0}));
+  EXPECT_EQ(body(list, "ball")["position"], json::array({0.0, 0.0, 50.0}));
+}
+
+TEST_F(CliTest, HumanReadableBodiesNameEveryBody) {
+  const CommandResult result = server_.cli({"bodies"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("crate"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("ball"), std::string::npos) << result.out;
+}
+
+TEST_F(CliTest, ForceForOneSecondGivesMomentumFTimesT) {
+  // 10 N for 1 s on 2 kg: v = F t / M = 5 m/s, exactly, once the 240 ticks are over.
+  const json ack = run_json({"force", "crate", "--force", "10", "0", "0", "--duration", "1"});
+  ASSERT_TRUE(ack.contains("applied_tick")) << ack.dump();
+  const std::uint64_t applied = ack["applied_tick"];
+  const json list = bodies_at_or_after(applied + 240);
+  const json& crate = body(list, "crate");
+  EXPECT_NEAR(crate["linear_velocity"][0].get<double>(), 5.0, 1e-9);
+  EXPECT_DOUBLE_EQ(crate["linear_velocity"][1].get<double>(), 0.0);
+  // Semi-implicit Euler: after the force, x = (F/M) dt^2 n(n+1)/2 + v (ticks since) dt.
+  const double ticks_after = static_cast<double>(list["tick"].get<std::uint64_t>() - (applied + 239));
+  const double expected_x = 5.0 * kDt * kDt * 240 * 241 / 2 + 5.0 * ticks_after * kDt;
+  EXPECT_NEAR(crate["position"][0].get<double>(), expected_x, 1e-9);
+  EXPECT_EQ(body(list, "ball")["linear_velocity"], json::array({0.0, 0.0, 0.0})) << "only the crate moved";
+}
+
+TEST_F(CliTest, ForceForTicksLastsExactlyThatMany) {
+  const json ack = run_json({"force", "1", "--force", "0", "0", "-3", "--ticks", "12"});
+  const json list = bodies_at_or_after(ack["applied_tick"].get<std::uint64_t>() + 12);
+  // Body 1 is the ball (1 kg): v = F n dt / M.
+  EXPECT_NEAR(body(list, "ball")["linear_velocity"][2].get<double>(), -3.0 * 12 * kDt, 1e-12);
+}
+
+TEST_F(CliTest, ImpulseAtABodyPointSpinsTheCrate) {
+  // J = (0, 2, 0) N s at body point (0.5, 0, 0): L = r x J = (0, 0, 1); a cube of
+  // 2 kg and half extent 0.5 has I = M/3 (h^2 + h^2) = 1/3, so w = 3 rad/s about z.
+  const json ack = run_json({"impulse", "crate", "--impulse", "0", "2", "0", "--at", "0.5", "0", "0", "--local"});
+  const json list = bodies_at_or_after(ack["applied_tick"]);
+  const json& crate = body(list, "crate");
+  EXPECT_NEAR(crate["angular_velocity"][2].get<double>(), 3.0, 1e-9);
+  EXPECT_NEAR(crate["linear_velocity"][1].get<double>(), 1.0, 1e-12);
+}
+
+TEST_F(CliTest, TorqueSpinsUpTheBall) {
+  // tau = 0.4 N m for 60 ticks on a solid sphere, I = 2/5 M r^2 = 0.1: w = tau t / I = 1 rad/s.
+  const json ack = run_json({"torque", "ball", "--torque", "0", "0.4", "0", "--ticks", "60"});
+  const json list = bodies_at_or_after(ack["applied_tick"].get<std::uint64_t>() + 60);
+  EXPECT_NEAR(body(list, "ball")["angular_velocity"][1].get<double>(), 1.0, 1e-9);
+}
+
+TEST_F(CliTest, SubscribePrintsOneJsonLinePerFrameAtTheRate) {
+  const CommandResult result =
+      server_.cli({"--json", "subscribe", "--bodies", "crate", "--rate", "30", "--count", "4"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::istringstream lines(result.out);
+  std::string line;
+  std::vector<std::uint64_t> ticks;
+  while (std::getline(lines, line)) {
+    const json frame = json::parse(line, nullptr, false);
+    ASSERT_FALSE(frame.is_discarded()) << line;
+    ASSERT_EQ(frame["bodies"].size(), 1u) << line;
+    const json& crate = frame["bodies"][0];
+    EXPECT_EQ(crate["name"], "crate");
+    EXPECT_EQ(crate["id"], 0);
+    EXPECT_EQ(crate["position"].size(), 3u);
+    EXPECT_EQ(crate["orientation"], json::array({1.0, 0.0, 0.0, 0.0}));
+    EXPECT_EQ(crate["linear_velocity"].size(), 3u);
+    EXPECT_EQ(crate["angular_velocity"].size(), 3u);
+    EXPECT_NEAR(frame["time"].get<double>(), static_cast<double>(frame["tick"].get<std::uint64_t>()) * kDt, 1e-6);
+    ticks.push_back(frame["tick"]);
+  }
+  ASSERT_EQ(ticks.size(), 4u) << result.out;
+  // 30 Hz at 240 Hz is a frame every 8 ticks; the first frame is the state at subscription.
+  for (std::size_t i = 2; i < ticks.size(); ++i) EXPECT_EQ(ticks[i] - ticks[i - 1], 8u);
+  EXPECT_EQ(ticks[1] % 8, 0u);
+}
+
+TEST_F(CliTest, SubscribeShowsAForceTakingEffect) {
+  // Subscribe in the background while a force is applied: a later frame shows the motion.
+  std::thread push([this] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    server_.cli({"impulse", "ball", "--impulse", "0", "0", "5"});
+  });
+  const CommandResult result =
+      server_.cli({"--json", "subscribe", "--bodies", "ball", "--rate", "60", "--count", "120"});
+  push.join();
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  std::istringstream lines(result.out);
+  std::string line;
+  std::string last;
+  while (std::getline(lines, line)) last = line;
+  const json frame = json::parse(last);
+  EXPECT_FLOAT_EQ(frame["bodies"][0]["linear_velocity"][2].get<float>(), 5.0f) << last;
+}
+
+TEST_F(CliTest, UnknownBodyIsAOneLineErrorAndAFailure) {
+  const CommandResult result = server_.cli({"force", "ghost", "--force", "1", "0", "0"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("UNKNOWN_BODY"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("ghost"), std::string::npos) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+TEST_F(CliTest, NaNForceIsRefusedByTheServer) {
+  const CommandResult result = server_.cli({"force", "crate", "--force", "nan", "0", "0"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("INVALID_ARGUMENT"), std::string::npos) << result.err;
+  const json list = run_json({"bodies"});
+  EXPECT_EQ(body(list, "crate")["linear_velocity"], json::array({0.0, 0.0, 0.0}));
+}
+
+TEST_F(CliTest, UsageErrorsExitTwo) {
+  EXPECT_EQ(server_.cli({"force", "crate"}).exit_code, 2) << "missing --force";
+  EXPECT_EQ(server_.cli({"force", "crate", "--force", "1", "x", "0"}).exit_code, 2);
+  EXPECT_EQ(server_.cli({"force", "crate", "--force", "1", "0", "0", "--local"}).exit_code, 2);
+  EXPECT_EQ(server_.cli({"juggle"}).exit_code, 2);
+}
+
+TEST(CliConnection, RefusedConnectionIsAOneLineFailure) {
+  // Port 1 on loopback: nothing listens there.
+  const CommandResult result = run_command({tumble_cli_path(), "--server", "127.0.0.1:1", "bodies"});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("127.0.0.1:1"), std::string::npos) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+TEST(CliConnection, ServerFromTheEnvironment) {
+  TumbledProcess server(kScene);
+  ASSERT_TRUE(server.started());
+  ::setenv("TUMBLE_SERVER", server.server().c_str(), 1);
+  const CommandResult result = run_command({tumble_cli_path(), "--json", "bodies"});
+  ::unsetenv("TUMBLE_SERVER");
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("crate"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tumble::test
