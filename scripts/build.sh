@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs what is missing and builds tumble into build/ (Release, at most 2
+# jobs). Used by run.sh and test.sh; safe to run again and again.
+#   BUILD_DIR=build BUILD_TYPE=Release scripts/build.sh [extra cmake args]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+./scripts/install-deps.sh
+
+BUILD_DIR=${BUILD_DIR:-build}
+BUILD_TYPE=${BUILD_TYPE:-Release}
+JOBS=${JOBS:-2}
+cmake_args=(-S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE")
+# CI treats warnings as errors.
+[[ "${CI:-}" == "true" ]] && cmake_args+=(-DTUMBLE_WERROR=ON)
+
+cmake "${cmake_args[@]}" "$@" >/dev/null
+cmake --build "$BUILD_DIR" -j "$JOBS"
