@@ -35,15 +35,22 @@ Quat advance_orientation(const Quat& orientation, const Vec3& angular_momentum, 
   return (quat_from_rotation_vector(dt * w_mid) * orientation).normalized();
 }
 
-void integrate_body(BodyState& state, const BodyMass& mass, const Vec3& gravity, double dt) {
+void integrate_momentum(BodyState& state, const BodyMass& mass, const Vec3& gravity, double dt) {
   // dP/dt = F (Baraff, "Rigid Body Equations of Motion"), gravity as M g.
   state.linear_momentum += (state.force + mass.mass * gravity) * dt;
-  // Semi-implicit: the position moves with the updated velocity v = P / M.
-  state.position += (state.linear_momentum * mass.inverse_mass) * dt;
-
   // dL/dt = tau.
   state.angular_momentum += state.torque * dt;
+}
+
+void integrate_pose(BodyState& state, const BodyMass& mass, double dt) {
+  // Semi-implicit: the position moves with the updated velocity v = P / M.
+  state.position += (state.linear_momentum * mass.inverse_mass) * dt;
   state.orientation = advance_orientation(state.orientation, state.angular_momentum, mass.inverse_inertia_body, dt);
+}
+
+void integrate_body(BodyState& state, const BodyMass& mass, const Vec3& gravity, double dt) {
+  integrate_momentum(state, mass, gravity, dt);
+  integrate_pose(state, mass, dt);
 }
 
 }  // namespace tumble::physics

@@ -35,6 +35,15 @@ Quat advance_orientation(const Quat& orientation, const Vec3& angular_momentum, 
 
 // One step of dt seconds for one body under gravity g (m/s^2) and the force
 // and torque accumulated in state. Does not clear the accumulators.
+// Equivalent to integrate_momentum followed by integrate_pose; World::step
+// runs the contact solver between the two.
 void integrate_body(BodyState& state, const BodyMass& mass, const Vec3& gravity, double dt);
+
+// The momentum half: P += (F + M g) dt, L += tau dt.
+void integrate_momentum(BodyState& state, const BodyMass& mass, const Vec3& gravity, double dt);
+
+// The pose half: x += (P / M) dt, and q turned by the implicit midpoint
+// update with L held fixed.
+void integrate_pose(BodyState& state, const BodyMass& mass, double dt);
 
 }  // namespace tumble::physics

@@ -2,7 +2,10 @@
 
 #include <cassert>
 #include <cstddef>
+#include <cstdint>
 #include <numbers>
+
+#include "physics/convex_hull.h"
 
 namespace tumble::physics {
 
@@ -54,6 +57,38 @@ MassProperties capsule_mass_properties(double mass, double radius, double half_h
   MassProperties props;
   props.mass = mass;
   props.inertia.diagonal() = Vec3(transverse, axial, transverse);
+  return props;
+}
+
+MassProperties convex_hull_mass_properties(const ConvexHull& hull, double mass) {
+  if (hull.vertices.empty()) return MassProperties{};
+  // A reference point near the middle keeps the products small.
+  const Vec3 origin = 0.5 * (hull.local_min + hull.local_max);
+  double volume = 0;
+  Vec3 first_moment = Vec3::Zero();
+  Mat3 covariance = Mat3::Zero();
+  for (const ConvexHull::Face& face : hull.faces) {
+    const Vec3 a = hull.vertices[hull.face_vertices[face.first]] - origin;
+    for (std::uint32_t k = 1; k + 1 < face.count; ++k) {
+      const Vec3 b = hull.vertices[hull.face_vertices[face.first + k]] - origin;
+      const Vec3 c = hull.vertices[hull.face_vertices[face.first + k + 1]] - origin;
+      // det[a b c] = a . (b x c): six times the signed volume, positive for a
+      // counter-clockwise (outward) face seen from the reference point.
+      const double det = a.dot(b.cross(c));
+      const Vec3 sum = a + b + c;
+      volume += det / 6.0;
+      first_moment += (det / 24.0) * sum;  // volume times the centroid (a + b + c) / 4
+      covariance += (det / 120.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() + sum * sum.transpose());
+    }
+  }
+  if (!(volume > 0)) return MassProperties{};
+  const Vec3 center = first_moment / volume;
+  const Mat3 central = covariance - volume * center * center.transpose();  // parallel-axis shift of the covariance
+  const double density = mass / volume;
+  MassProperties props;
+  props.mass = mass;
+  props.center = origin + center;
+  props.inertia = density * (central.trace() * Mat3::Identity() - central);
   return props;
 }
 

@@ -16,6 +16,8 @@
 
 namespace tumble::physics {
 
+struct ConvexHull;
+
 // Mass (kg), centre of mass (m) and inertia tensor about the centre of mass
 // (kg m^2), in body axes.
 struct MassProperties {
@@ -38,6 +40,19 @@ MassProperties sphere_mass_properties(double mass, double radius);
 //   I_yy = m_c r^2 / 2 + m_s 2/5 r^2
 //   I_xx = I_zz = m_c (H^2/12 + r^2/4) + m_s (2/5 r^2 + H^2/4 + 3 H r / 8).
 MassProperties capsule_mass_properties(double mass, double radius, double half_height);
+
+// Solid convex hull of uniform density, by tetrahedral decomposition: each
+// face is fanned into triangles (a, b, c) and each makes a tetrahedron with a
+// reference point o. Relative to o, a tetrahedron has volume det[a b c] / 6
+// and second moment (covariance) integral x x^T dV =
+// det/120 (a a^T + b b^T + c c^T + (a+b+c)(a+b+c)^T) (Blow and Binstock,
+// "How to find the inertia tensor (or other mass properties) of a 3D solid
+// body represented by a triangle mesh", 2004). Summed over the tetrahedra,
+// moved to the centre of mass c (C_c = C - V c c^T) and scaled by the
+// density M / V, the inertia is I = tr(C_c) 1 - C_c. The result's center is
+// the centre of mass in the hull's frame; it is not zero unless the hull was
+// centred (translate_convex_hull).
+MassProperties convex_hull_mass_properties(const ConvexHull& hull, double mass);
 
 // A rigid set of point masses m_i at positions r_i (any frame; the result is
 // in the same frame). Baraff's sums ("Center of Mass", "The Inertia Tensor"):

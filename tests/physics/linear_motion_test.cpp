@@ -103,13 +103,15 @@ TEST(LinearMotionTest, CustomGravityIsIndependentOfMass) {
   World world;
   const Vec3 g(1.0, -3.0, 0.5);
   world.set_gravity(g);
-  const BodyId light = world.add_body(box_desc(0.1, Vec3(0.1, 0.1, 0.1), Vec3::Zero()));
-  const BodyId heavy = world.add_body(box_desc(1000.0, Vec3(1.0, 1.0, 1.0), Vec3::Zero()));
+  // Side by side, far enough apart not to touch.
+  const Vec3 light_start(-5.0, 0.0, 0.0), heavy_start(5.0, 0.0, 0.0);
+  const BodyId light = world.add_body(box_desc(0.1, Vec3(0.1, 0.1, 0.1), light_start));
+  const BodyId heavy = world.add_body(box_desc(1000.0, Vec3(1.0, 1.0, 1.0), heavy_start));
   const double dt = 0.01;
   const int n = 100;
   for (int i = 0; i < n; ++i) world.step(dt);
-  expect_constant_acceleration(world, light, Vec3::Zero(), g, dt, n);
-  expect_constant_acceleration(world, heavy, Vec3::Zero(), g, dt, n);
+  expect_constant_acceleration(world, light, light_start, g, dt, n);
+  expect_constant_acceleration(world, heavy, heavy_start, g, dt, n);
 }
 
 TEST(LinearMotionTest, OffCentreForceSpinUp) {

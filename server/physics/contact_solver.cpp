@@ -1,0 +1,307 @@
+#include "physics/contact_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace tumble::physics {
+namespace {
+
+// An orthonormal basis (t1, t2) of the plane normal to unit n, continuous
+// except at n.z = 0 crossings (Duff et al., "Building an Orthonormal Basis,
+// Revisited", JCGT 2017).
+void tangent_basis(const Vec3& n, Vec3* t1, Vec3* t2) {
+  const double sign = std::copysign(1.0, n.z());
+  const double a = -1.0 / (sign + n.z());
+  const double b = n.x() * n.y() * a;
+  *t1 = Vec3(1.0 + sign * n.x() * n.x() * a, sign * b, -sign * n.x());
+  *t2 = Vec3(b, sign + n.y() * n.y() * a, -n.y());
+}
+
+}  // namespace
+
+void ContactSolver::touch(std::uint32_t body) {
+  if (is_touched_[body]) return;
+  is_touched_[body] = 1;
+  motion_[body] = Motion{};
+  touched_.push_back(body);
+}
+
+void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const std::uint32_t> active,
+                            const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
+                            const ContactSolverSettings& settings) {
+  for (std::uint32_t body : touched_) is_touched_[body] = 0;
+  touched_.clear();
+  constraints_.clear();
+  points_.clear();
+  if (motion_.size() < velocities.size()) {
+    motion_.resize(velocities.size());
+    is_touched_.resize(velocities.size(), 0);
+  }
+  settings_ = settings;
+  settings_.substeps = std::max(settings_.substeps, 1);
+  settings_.iterations = std::max(settings_.iterations, 1);
+  settings_.relax_iterations = std::max(settings_.relax_iterations, 0);
+  external_change_ = bodies.external_change;
+  inverse_mass_ = bodies.inverse_mass;
+  dt_ = dt;
+  h_ = dt / settings_.substeps;
+
+  // The spring of the push (b2MakeSoft): with omega = 2 pi f and zeta the
+  // damping ratio, a1 = 2 zeta + h omega, a2 = h omega a1, a3 = 1 / (1 + a2);
+  // bias rate omega / a1, mass scale a2 a3, impulse scale a3. Stiffer than a
+  // quarter of the substep rate would ring, so f is capped there; contacts
+  // against static or kinematic bodies get twice the frequency.
+  auto make_soft = [&](double hertz) {
+    Softness s;
+    if (hertz <= 0) return s;
+    const double omega = 2.0 * std::numbers::pi * hertz;
+    const double a1 = 2.0 * settings_.damping_ratio + h_ * omega;
+    const double a2 = h_ * omega * a1;
+    const double a3 = 1.0 / (1.0 + a2);
+    s.bias_rate = omega / a1;
+    s.mass_scale = a2 * a3;
+    s.impulse_scale = a3;
+    return s;
+  };
+  const double hertz = std::min(settings_.contact_hertz, 0.25 / h_);
+  soft_ = make_soft(hertz);
+  static_soft_ = make_soft(2.0 * hertz);
+
+  for (std::uint32_t index : active) {
+    const Contact& contact = contacts[index];
+    const Manifold& m = contact.manifold;
+    if (m.point_count == 0) continue;
+    Constraint c;
+    c.body_a = contact.body_a;
+    c.body_b = contact.body_b;
+    c.contact = index;
+    c.first_point = static_cast<std::uint32_t>(points_.size());
+    c.point_count = static_cast<std::uint32_t>(m.point_count);
+    c.inverse_mass_a = bodies.inverse_mass[c.body_a];
+    c.inverse_mass_b = bodies.inverse_mass[c.body_b];
+    c.against_infinite_mass = c.inverse_mass_a == 0 || c.inverse_mass_b == 0;
+    // Mixing rules: friction is the geometric mean, so a frictionless body
+    // slides on anything; restitution the maximum, so a bouncy body bounces
+    // on anything (as Box2D).
+    c.friction = std::sqrt(bodies.friction[c.body_a] * bodies.friction[c.body_b]);
+    c.restitution = std::max(bodies.restitution[c.body_a], bodies.restitution[c.body_b]);
+    c.normal = m.normal;
+    // Friction directions: the first along the sliding velocity at the
+    // manifold's centre when there is one, so a sliding body's friction
+    // stays opposite to its motion; otherwise a fixed basis.
+    {
+      Vec3 center = Vec3::Zero();
+      for (int k = 0; k < m.point_count; ++k) center += m.points[k].point_a + m.points[k].point_b;
+      center /= 2.0 * m.point_count;
+      const SolverVelocity& sa = velocities[c.body_a];
+      const SolverVelocity& sb = velocities[c.body_b];
+      Vec3 slip = sb.linear + sb.angular.cross(center - bodies.transforms[c.body_b].position) - sa.linear -
+                  sa.angular.cross(center - bodies.transforms[c.body_a].position);
+      slip -= slip.dot(c.normal) * c.normal;
+      const double slip_speed = slip.norm();
+      if (slip_speed > 1e-3) {
+        c.tangent1 = slip / slip_speed;
+        c.tangent2 = c.normal.cross(c.tangent1);
+      } else {
+        tangent_basis(c.normal, &c.tangent1, &c.tangent2);
+      }
+    }
+
+    const Mat3& inertia_a = bodies.inverse_inertia[c.body_a];
+    const Mat3& inertia_b = bodies.inverse_inertia[c.body_b];
+    const Vec3& xa = bodies.transforms[c.body_a].position;
+    const Vec3& xb = bodies.transforms[c.body_b].position;
+    const SolverVelocity& va = velocities[c.body_a];
+    const SolverVelocity& vb = velocities[c.body_b];
+    const double inverse_mass_sum = c.inverse_mass_a + c.inverse_mass_b;
+
+    for (int k = 0; k < m.point_count; ++k) {
+      const ManifoldPoint& mp = m.points[k];
+      const Vec3 point = 0.5 * (mp.point_a + mp.point_b);
+      const Vec3 ra = point - xa;
+      const Vec3 rb = point - xb;
+      Point p;
+      auto make_row = [&](Row& row, const Vec3& d, double impulse) {
+        row.jacobian_a = ra.cross(d);
+        row.jacobian_b = rb.cross(d);
+        row.response_a = inertia_a * row.jacobian_a;
+        row.response_b = inertia_b * row.jacobian_b;
+        const double k_row = inverse_mass_sum + row.jacobian_a.dot(row.response_a) + row.jacobian_b.dot(row.response_b);
+        row.mass = k_row > 0 ? 1.0 / k_row : 0.0;
+        row.impulse = impulse;
+      };
+      const Vec3& friction_impulse = contact.tangent_impulse[k];
+      make_row(p.normal, c.normal, contact.normal_impulse[k]);
+      make_row(p.tangent1, c.tangent1, friction_impulse.dot(c.tangent1));
+      make_row(p.tangent2, c.tangent2, friction_impulse.dot(c.tangent2));
+      p.separation = mp.separation;
+      p.relative_velocity = c.normal.dot(vb.linear - va.linear) + p.normal.jacobian_b.dot(vb.angular) -
+                            p.normal.jacobian_a.dot(va.angular);
+      points_.push_back(p);
+    }
+    touch(c.body_a);
+    touch(c.body_b);
+    constraints_.push_back(c);
+  }
+}
+
+void ContactSolver::warm_start(std::span<SolverVelocity> velocities) const {
+  for (const Constraint& c : constraints_) {
+    SolverVelocity& a = velocities[c.body_a];
+    SolverVelocity& b = velocities[c.body_b];
+    for (std::uint32_t k = 0; k < c.point_count; ++k) {
+      const Point& p = points_[c.first_point + k];
+      const Vec3 impulse =
+          p.normal.impulse * c.normal + p.tangent1.impulse * c.tangent1 + p.tangent2.impulse * c.tangent2;
+      a.linear -= c.inverse_mass_a * impulse;
+      a.angular -= p.normal.impulse * p.normal.response_a + p.tangent1.impulse * p.tangent1.response_a +
+                   p.tangent2.impulse * p.tangent2.response_a;
+      b.linear += c.inverse_mass_b * impulse;
+      b.angular += p.normal.impulse * p.normal.response_b + p.tangent1.impulse * p.tangent1.response_b +
+                   p.tangent2.impulse * p.tangent2.response_b;
+    }
+  }
+}
+
+void ContactSolver::solve_pass(std::span<SolverVelocity> velocities, bool soft) {
+  const double inv_h = 1.0 / h_;
+  for (const Constraint& c : constraints_) {
+    // Work on local copies; bodies of inverse mass 0 are written back
+    // unchanged.
+    Vec3 va = velocities[c.body_a].linear, wa = velocities[c.body_a].angular;
+    Vec3 vb = velocities[c.body_b].linear, wb = velocities[c.body_b].angular;
+    const Motion& ma = motion_[c.body_a];
+    const Motion& mb = motion_[c.body_b];
+    const double moved = c.normal.dot(mb.displacement - ma.displacement);
+    const Softness& softness = c.against_infinite_mass ? static_soft_ : soft_;
+    Point* points = points_.data() + c.first_point;
+
+    for (std::uint32_t k = 0; k < c.point_count; ++k) {
+      Point& p = points[k];
+      // Separation now: the start value plus the relative motion of the two
+      // contact points along the normal.
+      const double s =
+          p.separation + moved + p.normal.jacobian_b.dot(mb.rotation) - p.normal.jacobian_a.dot(ma.rotation);
+      double bias = 0, mass_scale = 1, impulse_scale = 0;
+      if (s > 0) {
+        bias = s * inv_h;  // speculative: may close the gap within the substep
+      } else if (soft) {
+        bias = std::max(softness.bias_rate * s, -settings_.max_push_speed);
+        mass_scale = softness.mass_scale;
+        impulse_scale = softness.impulse_scale;
+      }
+      const double vn = c.normal.dot(vb - va) + p.normal.jacobian_b.dot(wb) - p.normal.jacobian_a.dot(wa);
+      const double accumulated = std::max(
+          p.normal.impulse - p.normal.mass * mass_scale * (vn + bias) - impulse_scale * p.normal.impulse, 0.0);
+      const double d = accumulated - p.normal.impulse;
+      p.normal.impulse = accumulated;
+      p.max_normal_impulse = std::max(p.max_normal_impulse, accumulated);
+      va -= (c.inverse_mass_a * d) * c.normal;
+      wa -= d * p.normal.response_a;
+      vb += (c.inverse_mass_b * d) * c.normal;
+      wb += d * p.normal.response_b;
+    }
+
+    for (std::uint32_t k = 0; k < c.point_count; ++k) {
+      Point& p = points[k];
+      const Vec3 dv = vb - va;
+      const double vt1 = c.tangent1.dot(dv) + p.tangent1.jacobian_b.dot(wb) - p.tangent1.jacobian_a.dot(wa);
+      const double vt2 = c.tangent2.dot(dv) + p.tangent2.jacobian_b.dot(wb) - p.tangent2.jacobian_a.dot(wa);
+      double new1 = p.tangent1.impulse - p.tangent1.mass * vt1;
+      double new2 = p.tangent2.impulse - p.tangent2.mass * vt2;
+      const double limit = c.friction * p.normal.impulse;
+      const double length2 = new1 * new1 + new2 * new2;
+      if (length2 > limit * limit) {
+        const double scale = limit / std::sqrt(length2);
+        new1 *= scale;
+        new2 *= scale;
+      }
+      const double d1 = new1 - p.tangent1.impulse;
+      const double d2 = new2 - p.tangent2.impulse;
+      p.tangent1.impulse = new1;
+      p.tangent2.impulse = new2;
+      const Vec3 impulse = d1 * c.tangent1 + d2 * c.tangent2;
+      va -= c.inverse_mass_a * impulse;
+      wa -= d1 * p.tangent1.response_a + d2 * p.tangent2.response_a;
+      vb += c.inverse_mass_b * impulse;
+      wb += d1 * p.tangent1.response_b + d2 * p.tangent2.response_b;
+    }
+
+    velocities[c.body_a] = {va, wa};
+    velocities[c.body_b] = {vb, wb};
+  }
+}
+
+void ContactSolver::integrate_motion(std::span<const SolverVelocity> velocities) {
+  for (std::uint32_t body : touched_) {
+    Motion& m = motion_[body];
+    m.displacement += h_ * velocities[body].linear;
+    m.rotation += h_ * velocities[body].angular;
+  }
+}
+
+void ContactSolver::solve(std::span<SolverVelocity> velocities) {
+  // The caller added the whole step's external change; the substeps add it
+  // a share at a time instead.
+  const double share = 1.0 / settings_.substeps;
+  for (std::uint32_t body : touched_) {
+    if (inverse_mass_[body] == 0) continue;
+    velocities[body].linear -= external_change_[body].linear;
+    velocities[body].angular -= external_change_[body].angular;
+  }
+  for (int substep = 0; substep < settings_.substeps; ++substep) {
+    for (std::uint32_t body : touched_) {
+      if (inverse_mass_[body] == 0) continue;
+      velocities[body].linear += share * external_change_[body].linear;
+      velocities[body].angular += share * external_change_[body].angular;
+    }
+    warm_start(velocities);
+    for (int i = 0; i < settings_.iterations; ++i) solve_pass(velocities, true);
+    integrate_motion(velocities);
+    for (int i = 0; i < settings_.relax_iterations; ++i) solve_pass(velocities, false);
+  }
+  apply_restitution(velocities);
+}
+
+void ContactSolver::apply_restitution(std::span<SolverVelocity> velocities) {
+  for (const Constraint& c : constraints_) {
+    if (c.restitution == 0) continue;
+    SolverVelocity& a = velocities[c.body_a];
+    SolverVelocity& b = velocities[c.body_b];
+    for (std::uint32_t k = 0; k < c.point_count; ++k) {
+      Point& p = points_[c.first_point + k];
+      if (p.relative_velocity > -settings_.restitution_threshold || p.max_normal_impulse == 0) continue;
+      const double vn = c.normal.dot(b.linear - a.linear) + p.normal.jacobian_b.dot(b.angular) -
+                        p.normal.jacobian_a.dot(a.angular);
+      // Target v_n = -e v_n(before).
+      const double accumulated =
+          std::max(p.normal.impulse - p.normal.mass * (vn + c.restitution * p.relative_velocity), 0.0);
+      const double d = accumulated - p.normal.impulse;
+      p.normal.impulse = accumulated;
+      a.linear -= (c.inverse_mass_a * d) * c.normal;
+      a.angular -= d * p.normal.response_a;
+      b.linear += (c.inverse_mass_b * d) * c.normal;
+      b.angular += d * p.normal.response_b;
+    }
+  }
+}
+
+void ContactSolver::store_impulses(std::span<Contact> contacts) const {
+  for (const Constraint& c : constraints_) {
+    Contact& contact = contacts[c.contact];
+    for (std::uint32_t k = 0; k < c.point_count; ++k) {
+      const Point& p = points_[c.first_point + k];
+      contact.normal_impulse[k] = p.normal.impulse;
+      contact.tangent_impulse[k] = p.tangent1.impulse * c.tangent1 + p.tangent2.impulse * c.tangent2;
+    }
+  }
+}
+
+SolverVelocity ContactSolver::pseudo_velocity(std::uint32_t body, const SolverVelocity& final_velocity) const {
+  const Motion& m = motion_[body];
+  const double inv_dt = 1.0 / dt_;
+  return {m.displacement * inv_dt - final_velocity.linear, m.rotation * inv_dt - final_velocity.angular};
+}
+
+}  // namespace tumble::physics

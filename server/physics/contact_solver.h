@@ -1,0 +1,171 @@
+// ContactSolver: sequential impulses on the contact points of one step
+// (Catto, "Iterative Dynamics with Temporal Coherence", GDC 2005, and "Fast
+// and Simple Physics using Sequential Impulses", GDC 2006), arranged as
+// Box2D v3's soft step (Catto, "Solver2D", 2024): the step is split into
+// substeps, and each substep
+//   1. adds its share of gravity and the external forces to v and w,
+//   2. warm starts: applies the accumulated impulses again,
+//   3. solves the rows with soft contacts: a penetration s < 0 asks for the
+//      separating velocity -bias_rate s (at most max_push_speed), through a
+//      spring of contact_hertz with damping ratio damping_ratio, written
+//      implicitly as a mass scale and an impulse scale (Catto, "Soft Step",
+//      GDC 2011 / Box2D b2MakeSoft),
+//   4. moves the bodies by h v (tracked as displacements dp and rotations
+//      dtheta of the bodies), so the next substep sees the new separations,
+//   5. relaxes: solves again without the push, so the separating velocity the
+//      push added moves the bodies but does not stay in their momentum.
+// After the substeps comes restitution, then the impulses are stored for the
+// next step's warm start.
+//
+// Rows, with r_a, r_b the contact point relative to the centres of mass
+// (fixed for the step) and d the row direction (normal or tangent):
+//   relative velocity  c' = d.(v_b - v_a) + (r_b x d).w_b - (r_a x d).w_a
+//   effective mass     m = 1 / (1/M_a + 1/M_b + (r_a x d).I_a^-1 (r_a x d) + (r_b x d).I_b^-1 (r_b x d))
+//   impulse            lambda = -m s_m (c' + bias) - s_i lambda_acc, accumulated and clamped
+// with s_m, s_i the mass and impulse scales (1 and 0 for a rigid row). The
+// separation during the step is s = s_0 + d.(dp_b - dp_a) +
+// (r_b x d).dtheta_b - (r_a x d).dtheta_a. A speculative point (s > 0) has
+// bias s/h, so the bodies may close the gap within the substep but not pass
+// it. Normal: accumulated impulse >= 0. Friction: the two tangent impulses
+// are clamped together to the disc of radius friction * normal impulse
+// (Coulomb's cone).
+//
+// Restitution (Baraff, "Physically Based Modeling: Rigid Body Simulation II"
+// section 8, the colliding-contact impulse; applied after the substeps as in
+// Box2D v3): a point that approached faster than the threshold and took an
+// impulse gets v_n^+ = -e v_n^-.
+//
+// The solver works on velocities v, w of the bodies (World writes back P =
+// M v, L = I w). The displacement of the substeps differs from v dt by
+// little; that difference is handed back as a pseudo-velocity which World
+// adds to its usual pose update (split-impulse style), so positions follow
+// the substeps while the momenta keep only the relaxed velocities.
+//
+// Not thread-safe. Arrays are reused; no allocation once warmed up.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "physics/contact.h"
+#include "physics/math.h"
+#include "physics/transform.h"
+
+namespace tumble::physics {
+
+// A body's velocity during the solve (m/s, rad/s, world frame).
+struct SolverVelocity {
+  Vec3 linear = Vec3::Zero();
+  Vec3 angular = Vec3::Zero();
+};
+
+struct ContactSolverSettings {
+  int substeps = 4;          // >= 1
+  int iterations = 1;        // soft passes per substep, >= 1
+  int relax_iterations = 1;  // rigid passes per substep, >= 0
+  double contact_hertz = 30;   // stiffness of the push out of overlap (Hz); capped at a quarter of the substep rate
+  double damping_ratio = 10;   // of that push
+  double max_push_speed = 3;   // m/s
+  double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
+};
+
+// Per-body inputs, all indexed by dense body index. Static and kinematic
+// bodies have inverse mass 0 and a zero inverse inertia.
+struct ContactSolverBodies {
+  std::span<const double> inverse_mass;            // 1/M
+  std::span<const Mat3> inverse_inertia;           // I^-1 in the world frame, this step
+  std::span<const Transform> transforms;           // centre of mass position this step
+  std::span<const double> friction;                // coefficient of each body
+  std::span<const double> restitution;             // coefficient of each body
+  std::span<const SolverVelocity> external_change;  // change of v and w over the step from gravity and forces
+};
+
+class ContactSolver {
+ public:
+  // Builds constraints for the contacts listed in active that have points.
+  // velocities holds every body's velocity at the end of the step before
+  // contacts (the external change already added).
+  void prepare(std::span<const Contact> contacts, std::span<const std::uint32_t> active,
+               const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
+               const ContactSolverSettings& settings);
+  // Runs the substeps, relax passes and restitution on velocities.
+  void solve(std::span<SolverVelocity> velocities);
+  void store_impulses(std::span<Contact> contacts) const;
+
+  // Bodies in at least one constraint this step, in first-use order
+  // (static and kinematic ones included).
+  std::span<const std::uint32_t> touched_bodies() const { return touched_; }
+  // For a touched body after solve(): (displacement of the substeps - v dt)
+  // / dt and the same for rotation, where v and w are the final velocities.
+  SolverVelocity pseudo_velocity(std::uint32_t body, const SolverVelocity& final_velocity) const;
+  std::size_t constraint_count() const { return constraints_.size(); }
+  std::size_t point_count() const { return points_.size(); }
+
+ private:
+  // One row: a direction d at one point, with its angular Jacobians and
+  // their products with the inverse inertias.
+  struct Row {
+    Vec3 jacobian_a;     // r_a x d
+    Vec3 jacobian_b;     // r_b x d
+    Vec3 response_a;     // I_a^-1 (r_a x d)
+    Vec3 response_b;     // I_b^-1 (r_b x d)
+    double mass = 0;     // effective mass
+    double impulse = 0;  // accumulated
+  };
+  struct Point {
+    Row normal;
+    Row tangent1;
+    Row tangent2;
+    double separation = 0;         // s_0, at the start of the step (m)
+    double relative_velocity = 0;  // normal velocity before the solve (m/s)
+    double max_normal_impulse = 0;
+  };
+  struct Constraint {
+    std::uint32_t body_a = 0;
+    std::uint32_t body_b = 0;
+    std::uint32_t contact = 0;
+    std::uint32_t first_point = 0;
+    std::uint32_t point_count = 0;
+    double inverse_mass_a = 0;
+    double inverse_mass_b = 0;
+    double friction = 0;
+    double restitution = 0;
+    bool against_infinite_mass = false;  // one body static or kinematic: stiffer push
+    Vec3 normal;
+    Vec3 tangent1;
+    Vec3 tangent2;
+  };
+  // Position of a body within the step, relative to its start.
+  struct Motion {
+    Vec3 displacement = Vec3::Zero();  // dp (m)
+    Vec3 rotation = Vec3::Zero();      // dtheta, sum of w h (rad)
+  };
+  // The implicit spring of a soft row (Box2D's b2Softness).
+  struct Softness {
+    double bias_rate = 0;      // 1/s
+    double mass_scale = 1;
+    double impulse_scale = 0;
+  };
+
+  void touch(std::uint32_t body);
+  void warm_start(std::span<SolverVelocity> velocities) const;
+  void solve_pass(std::span<SolverVelocity> velocities, bool soft);
+  void integrate_motion(std::span<const SolverVelocity> velocities);
+  void apply_restitution(std::span<SolverVelocity> velocities);
+
+  std::vector<Constraint> constraints_;
+  std::vector<Point> points_;
+  std::vector<Motion> motion_;
+  std::vector<std::uint8_t> is_touched_;
+  std::vector<std::uint32_t> touched_;
+  std::span<const SolverVelocity> external_change_;
+  std::span<const double> inverse_mass_;
+  ContactSolverSettings settings_;
+  double dt_ = 0;
+  double h_ = 0;  // substep
+  Softness soft_;
+  Softness static_soft_;
+};
+
+}  // namespace tumble::physics

@@ -1,0 +1,291 @@
+// World: contact bookkeeping, the broadphase update and the narrowphase
+// pass.
+//
+// Pairs come from the broadphase trees (static_tree_ for static bodies,
+// movable_tree_ for dynamic and kinematic ones) and from the planes, which
+// stay outside the trees and are tested against every awake body's box. A
+// contact lives while the fat boxes overlap (for planes: while the body's
+// box, grown by the fat margin, reaches the plane), so a pair is found once
+// and then only updated.
+#include <algorithm>
+#include <cmath>
+
+#include "physics/collide.h"
+#include "physics/world.h"
+
+namespace tumble::physics {
+namespace {
+
+// Manifold reuse: while B's pose relative to A stays within this distance
+// (m) and angle of the pose at the last full test, the manifold is
+// re-evaluated from its anchors.
+constexpr double kReuseDistance = 1e-3;
+// cos of half of 1 degree: |q1 . q2| = cos(theta / 2) for the angle theta
+// between two orientations.
+constexpr double kReuseCosHalfAngle = 0.99996192306417131;
+
+bool is_polyhedron(ShapeType type) { return type == ShapeType::box || type == ShapeType::convex_hull; }
+
+// Pair order of collide(): the shape of body_a comes first.
+int shape_order(ShapeType type) {
+  switch (type) {
+    case ShapeType::sphere: return 0;
+    case ShapeType::capsule: return 1;
+    case ShapeType::box: return 2;
+    case ShapeType::convex_hull: return 3;
+    case ShapeType::plane: return 4;
+    case ShapeType::none: return 5;
+  }
+  return 5;
+}
+
+// Height of the lowest corner of box above the plane n.p = offset.
+double lowest_height(const Aabb& box, const Vec3& n, double offset) {
+  const Vec3 center = 0.5 * (box.min + box.max);
+  const Vec3 half = 0.5 * (box.max - box.min);
+  return n.dot(center) - n.cwiseAbs().dot(half) - offset;
+}
+
+}  // namespace
+
+bool World::can_collide(std::size_t a, std::size_t b) const {
+  if (a == b) return false;
+  if (shapes_[a].type == ShapeType::none || shapes_[b].type == ShapeType::none) return false;
+  return is_dynamic(a) || is_dynamic(b);
+}
+
+bool World::has_contact(std::uint32_t a, std::uint32_t b) const {
+  // Walk the shorter of the two lists.
+  if (records_[b].contact_count < records_[a].contact_count) std::swap(a, b);
+  for (ContactKey key = records_[a].contact_head; key != kNullContactKey;) {
+    const Contact& c = contacts_[key >> 1];
+    const std::uint32_t side = key & 1;
+    if ((side == 0 ? c.body_b : c.body_a) == b) return true;
+    key = c.next[side];
+  }
+  return false;
+}
+
+void World::create_contact(std::uint32_t a, std::uint32_t b) {
+  if (shape_order(shapes_[a].type) > shape_order(shapes_[b].type)) std::swap(a, b);
+  std::uint32_t slot;
+  if (free_contacts_.empty()) {
+    slot = static_cast<std::uint32_t>(contacts_.size());
+    contacts_.emplace_back();
+  } else {
+    slot = free_contacts_.back();
+    free_contacts_.pop_back();
+    contacts_[slot] = Contact{};
+  }
+  Contact& c = contacts_[slot];
+  c.alive = true;
+  c.body_a = a;
+  c.body_b = b;
+  const std::uint32_t bodies[2] = {a, b};
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    BodyRecord& record = records_[bodies[side]];
+    const ContactKey key = (slot << 1) | side;
+    c.prev[side] = kNullContactKey;
+    c.next[side] = record.contact_head;
+    if (record.contact_head != kNullContactKey) contacts_[record.contact_head >> 1].prev[record.contact_head & 1] = key;
+    record.contact_head = key;
+    ++record.contact_count;
+  }
+}
+
+void World::destroy_contact(std::uint32_t slot) {
+  Contact& c = contacts_[slot];
+  const std::uint32_t bodies[2] = {c.body_a, c.body_b};
+  for (std::uint32_t side = 0; side < 2; ++side) {
+    BodyRecord& record = records_[bodies[side]];
+    const ContactKey prev = c.prev[side];
+    const ContactKey next = c.next[side];
+    if (prev != kNullContactKey) {
+      contacts_[prev >> 1].next[prev & 1] = next;
+    } else {
+      record.contact_head = next;
+    }
+    if (next != kNullContactKey) contacts_[next >> 1].prev[next & 1] = prev;
+    --record.contact_count;
+  }
+  c.alive = false;
+  free_contacts_.push_back(slot);
+}
+
+void World::destroy_contacts_of(std::uint32_t body, bool wake_others) {
+  while (records_[body].contact_head != kNullContactKey) {
+    const ContactKey key = records_[body].contact_head;
+    const Contact& c = contacts_[key >> 1];
+    const std::uint32_t other = (key & 1) == 0 ? c.body_b : c.body_a;
+    if (wake_others && c.manifold.point_count > 0) wake_island(other);
+    destroy_contact(key >> 1);
+  }
+}
+
+void World::relabel_body(std::uint32_t from, std::uint32_t to) {
+  for (ContactKey key = records_[from].contact_head; key != kNullContactKey;) {
+    Contact& c = contacts_[key >> 1];
+    const std::uint32_t side = key & 1;
+    (side == 0 ? c.body_a : c.body_b) = to;
+    key = c.next[side];
+  }
+  const BodyRecord& record = records_[from];
+  if (record.proxy != DynamicTree::kNull) {
+    (record.motion_type == MotionType::static_body ? static_tree_ : movable_tree_).set_user(record.proxy, to);
+  }
+  std::replace(planes_.begin(), planes_.end(), from, to);
+}
+
+void World::wake_overlapping(const Aabb& box) {
+  movable_tree_.query(box, [&](std::uint32_t other) { wake_island(other); });
+}
+
+void World::update_broadphase(double dt) {
+  moved_.clear();
+  const double half_margin = 0.5 * settings_.contact_margin;
+  for (std::uint32_t i = 0; i < records_.size(); ++i) {
+    BodyRecord& record = records_[i];
+    if (!record.awake || record.proxy == DynamicTree::kNull) continue;
+    // The box the body can reach this step, with half the contact margin on
+    // each side so two boxes meet when the bodies come within the margin.
+    const Aabb tight = shape_aabb(i).expanded(half_margin + record.reach);
+    aabbs_[i] = tight;
+    if (movable_tree_.fat_aabb(record.proxy).contains(tight)) continue;
+    // The fat box also leads the body by two steps of its motion, so a body
+    // in steady flight is not reinserted every step.
+    Aabb fat = tight.expanded(settings_.aabb_margin);
+    const Vec3 lead = (2.0 * dt) * velocities_[i].linear;
+    fat.min += lead.cwiseMin(0.0);
+    fat.max += lead.cwiseMax(0.0);
+    movable_tree_.move_proxy(record.proxy, fat);
+    record.moved = true;
+    moved_.push_back(i);
+  }
+  stats_.moved_proxies = moved_.size();
+
+  for (std::uint32_t i : moved_) {
+    const Aabb& fat = movable_tree_.fat_aabb(records_[i].proxy);
+    auto visit = [&](std::uint32_t j) {
+      if (records_[j].moved && j < i) return;  // already found from j's query
+      if (!can_collide(i, j) || has_contact(i, j)) return;
+      create_contact(i, j);
+    };
+    movable_tree_.query(fat, visit);
+    if (is_dynamic(i)) static_tree_.query(fat, visit);
+  }
+  for (std::uint32_t i : moved_) records_[i].moved = false;
+
+  // Planes against every awake dynamic body with a shape.
+  for (std::uint32_t p : planes_) {
+    Vec3 normal;
+    double offset;
+    world_plane(shapes_[p], transforms_[p], &normal, &offset);
+    for (std::uint32_t i = 0; i < records_.size(); ++i) {
+      const BodyRecord& record = records_[i];
+      if (!record.awake || record.proxy == DynamicTree::kNull || !is_dynamic(i)) continue;
+      if (lowest_height(aabbs_[i], normal, offset) > 0 || has_contact(i, p)) continue;
+      create_contact(i, p);
+    }
+  }
+}
+
+void World::update_contacts() {
+  active_.clear();
+  for (std::uint32_t slot = 0; slot < contacts_.size(); ++slot) {
+    Contact& c = contacts_[slot];
+    if (!c.alive) continue;
+    const std::uint32_t a = c.body_a, b = c.body_b;
+    if (!records_[a].awake && !records_[b].awake) continue;  // asleep (or asleep against static)
+
+    // Persistence: the pair lives while the fat boxes overlap.
+    bool overlap;
+    if (shapes_[b].type == ShapeType::plane) {
+      Vec3 normal;
+      double offset;
+      world_plane(shapes_[b], transforms_[b], &normal, &offset);
+      overlap = lowest_height(aabbs_[a], normal, offset) <= settings_.aabb_margin;
+    } else {
+      const Aabb& fat_a = (records_[a].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
+                              .fat_aabb(records_[a].proxy);
+      const Aabb& fat_b = (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
+                              .fat_aabb(records_[b].proxy);
+      overlap = fat_a.overlaps(fat_b);
+    }
+    if (!overlap) {
+      destroy_contact(slot);
+      continue;
+    }
+
+    update_manifold(c, slot);
+    ++stats_.narrowphase_pairs;
+    if (c.manifold.point_count == 0) continue;
+    // Touching a sleeping body wakes its island.
+    if (!records_[a].awake) wake_island(a);
+    if (!records_[b].awake) wake_island(b);
+    active_.push_back(slot);
+  }
+}
+
+void World::update_manifold(Contact& c, std::uint32_t /*index*/) {
+  const std::uint32_t a = c.body_a, b = c.body_b;
+  const Transform& ta = transforms_[a];
+  const Transform& tb = transforms_[b];
+  // Points up to the margin plus the distance the two can close this step.
+  const double max_separation = settings_.contact_margin + records_[a].reach + records_[b].reach;
+  const ShapeType type_a = shapes_[a].type, type_b = shapes_[b].type;
+  const bool cacheable = (is_polyhedron(type_a) || is_polyhedron(type_b)) && type_b != ShapeType::plane;
+
+  Vec3 relative_position = Vec3::Zero();
+  Quat relative_rotation = Quat::Identity();
+  if (cacheable) {
+    relative_position = ta.rotation.transpose() * (tb.position - ta.position);
+    relative_rotation = states_[a].orientation.conjugate() * states_[b].orientation;
+    if (c.cached_max_separation >= max_separation &&
+        (relative_position - c.cached_position).squaredNorm() < kReuseDistance * kReuseDistance &&
+        std::abs(relative_rotation.dot(c.cached_rotation)) > kReuseCosHalfAngle) {
+      Manifold& m = c.manifold;
+      m.normal = ta.rotation * c.local_normal;
+      for (int k = 0; k < m.point_count; ++k) {
+        ManifoldPoint& p = m.points[k];
+        p.point_a = ta.apply(c.local_a[k]);
+        p.point_b = tb.apply(c.local_b[k]);
+        p.separation = (p.point_b - p.point_a).dot(m.normal);
+      }
+      return;
+    }
+  }
+
+  Manifold fresh;
+  collide(shapes_[a], ta, shapes_[b], tb, max_separation, fresh);
+  ++stats_.manifolds_computed;
+
+  // Warm starting: a point keeps the impulses of the old point with its id.
+  double normal_impulse[kMaxManifoldPoints];
+  Vec3 tangent_impulse[kMaxManifoldPoints];
+  for (int k = 0; k < fresh.point_count; ++k) {
+    normal_impulse[k] = 0;
+    tangent_impulse[k] = Vec3::Zero();
+    for (int j = 0; j < c.manifold.point_count; ++j) {
+      if (c.manifold.points[j].id == fresh.points[k].id) {
+        normal_impulse[k] = c.normal_impulse[j];
+        tangent_impulse[k] = c.tangent_impulse[j];
+        break;
+      }
+    }
+  }
+  c.manifold = fresh;
+  c.local_normal = ta.rotation.transpose() * fresh.normal;
+  for (int k = 0; k < fresh.point_count; ++k) {
+    c.normal_impulse[k] = normal_impulse[k];
+    c.tangent_impulse[k] = tangent_impulse[k];
+    c.local_a[k] = ta.apply_inverse(fresh.points[k].point_a);
+    c.local_b[k] = tb.apply_inverse(fresh.points[k].point_b);
+  }
+  if (cacheable) {
+    c.cached_position = relative_position;
+    c.cached_rotation = relative_rotation;
+    c.cached_max_separation = max_separation;
+  }
+}
+
+}  // namespace tumble::physics

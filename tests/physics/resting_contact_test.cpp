@@ -1,0 +1,90 @@
+// Bodies coming to rest on the ground: a box landing on an edge falls flat,
+// a sphere dropped from 100 m neither tunnels nor sinks.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "physics/world.h"
+#include "scene_helpers.h"
+
+namespace tumble::physics {
+namespace {
+
+using testing::box_body;
+using testing::ground_plane;
+using testing::kTick;
+using testing::sphere_body;
+
+TEST(RestingContactTest, BoxDroppedOnEdgeRestsFlat) {
+  World world;
+  world.add_body(ground_plane());
+  // On its edge: turned 45 degrees about z, so one edge points down. The
+  // balanced edge is an unstable equilibrium; a slow spin about z tips it.
+  BodyDesc desc = box_body(Vec3(0.0, 2.0, 0.0));
+  desc.orientation = Quat(Eigen::AngleAxisd(std::numbers::pi / 4, Vec3::UnitZ()));
+  desc.angular_velocity = Vec3(0.0, 0.0, 0.5);
+  const BodyId box = world.add_body(desc);
+  for (int i = 0; i < 4 * 240; ++i) world.step(kTick);
+
+  // Flat: the centre at the half extent, one face axis vertical.
+  EXPECT_NEAR(world.position(box).y(), 0.5, 0.005);
+  const Mat3 r = world.orientation(box).toRotationMatrix();
+  const double up_alignment = r.transpose().col(1).cwiseAbs().maxCoeff();  // |cos| of the most vertical axis
+  EXPECT_GT(up_alignment, std::cos(0.01));
+  EXPECT_LT(world.linear_velocity(box).norm(), 0.01);
+}
+
+TEST(RestingContactTest, SphereFromHundredMetresDoesNotTunnel) {
+  World world;
+  world.add_body(ground_plane());
+  const double radius = 0.5;
+  const BodyId ball = world.add_body(sphere_body(Vec3(0.0, 100.0, 0.0), radius));
+  // It hits at sqrt(2 g h) = 44 m/s, moving 0.18 m per tick: more than a
+  // third of its radius, so only contacts ahead of time catch it.
+  double lowest = 1e9;
+  double fastest = 0;
+  for (int i = 0; i < 8 * 240; ++i) {
+    world.step(kTick);
+    lowest = std::min(lowest, world.position(ball).y());
+    fastest = std::max(fastest, -world.linear_velocity(ball).y());
+  }
+  EXPECT_GT(fastest, 40.0);
+  EXPECT_GE(lowest, 0.0);  // the centre never went below the ground
+  EXPECT_GE(lowest, radius - 0.005);
+  EXPECT_NEAR(world.position(ball).y(), radius, 0.005);
+  EXPECT_LT(world.linear_velocity(ball).norm(), 0.01);
+}
+
+TEST(RestingContactTest, CapsuleLiesOnItsSide) {
+  World world;
+  world.add_body(ground_plane());
+  BodyDesc desc;
+  desc.shape = capsule_shape(0.25, 0.5);
+  desc.mass_properties = capsule_mass_properties(1.0, 0.25, 0.5);
+  desc.position = Vec3(0.0, 1.0, 0.0);
+  // Tilted a little from lying along x, so it lands on one end first.
+  desc.orientation = Quat(Eigen::AngleAxisd(std::numbers::pi / 2 - 0.2, Vec3::UnitZ()));
+  const BodyId capsule = world.add_body(desc);
+  for (int i = 0; i < 4 * 240; ++i) world.step(kTick);
+  EXPECT_NEAR(world.position(capsule).y(), 0.25, 0.005);
+  // The axis (body y) lies horizontal.
+  EXPECT_LT(std::abs((world.orientation(capsule) * Vec3::UnitY()).y()), 0.01);
+}
+
+TEST(RestingContactTest, BoxRestsOnStaticBox) {
+  World world;
+  BodyDesc table = box_body(Vec3(0.0, -1.0, 0.0));
+  table.shape = box_shape(Vec3(5.0, 1.0, 5.0));
+  table.motion_type = MotionType::static_body;
+  world.add_body(table);
+  const BodyId box = world.add_body(box_body(Vec3(0.3, 1.0, -0.2)));
+  for (int i = 0; i < 3 * 240; ++i) world.step(kTick);
+  EXPECT_NEAR(world.position(box).y(), 0.5, 0.005);
+  EXPECT_NEAR(world.position(box).x(), 0.3, 1e-3);
+  EXPECT_NEAR(world.position(box).z(), -0.2, 1e-3);
+}
+
+}  // namespace
+}  // namespace tumble::physics

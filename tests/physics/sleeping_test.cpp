@@ -1,0 +1,157 @@
+// Islands and sleeping: resting islands fall asleep, cost nothing while
+// asleep, and wake as a whole when disturbed.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "physics/world.h"
+#include "scene_helpers.h"
+
+namespace tumble::physics {
+namespace {
+
+using testing::box_body;
+using testing::ground_plane;
+using testing::kTick;
+using testing::sphere_body;
+
+std::vector<BodyId> add_column(World& world, double x, int height) {
+  std::vector<BodyId> boxes;
+  for (int k = 0; k < height; ++k) boxes.push_back(world.add_body(box_body(Vec3(x, 0.5 + k, 0.0))));
+  return boxes;
+}
+
+bool all_asleep(const World& world, const std::vector<BodyId>& ids) {
+  for (BodyId id : ids) {
+    if (world.is_awake(id)) return false;
+  }
+  return true;
+}
+
+bool all_awake(const World& world, const std::vector<BodyId>& ids) {
+  for (BodyId id : ids) {
+    if (!world.is_awake(id)) return false;
+  }
+  return true;
+}
+
+// Steps until every listed body sleeps; returns the time taken (s) or a
+// negative value if that takes longer than limit seconds.
+double time_to_sleep(World& world, const std::vector<BodyId>& ids, double limit) {
+  for (int i = 1; i <= static_cast<int>(limit / kTick); ++i) {
+    world.step(kTick);
+    if (all_asleep(world, ids)) return i * kTick;
+  }
+  return -1;
+}
+
+TEST(SleepingTest, SettledStackFallsAsleep) {
+  World world;
+  world.add_body(ground_plane());
+  const std::vector<BodyId> column = add_column(world, 0.0, 5);
+  EXPECT_TRUE(all_awake(world, column));
+  const double t = time_to_sleep(world, column, 5.0);
+  EXPECT_GT(t, 0.4);  // not before time_to_sleep has passed
+  EXPECT_LT(t, 3.0);
+  EXPECT_EQ(world.sleeping_body_count(), 5u);
+  EXPECT_EQ(world.awake_body_count(), 0u);
+  // Asleep it stays exactly where it settled.
+  const Vec3 top = world.position(column.back());
+  for (int i = 0; i < 240; ++i) world.step(kTick);
+  EXPECT_EQ(world.position(column.back()), top);
+  EXPECT_NEAR(top.y(), 4.5, 0.01);
+}
+
+TEST(SleepingTest, SleepingPileCostsNothing) {
+  World world;
+  world.add_body(ground_plane());
+  std::vector<BodyId> all;
+  for (int c = 0; c < 4; ++c) {
+    for (BodyId id : add_column(world, 3.0 * c, 4)) all.push_back(id);
+  }
+  world.step(kTick);
+  const StepStats awake = world.last_step_stats();
+  EXPECT_EQ(awake.integrated_bodies, 16u);
+  EXPECT_GT(awake.narrowphase_pairs, 0u);
+  EXPECT_GT(awake.solved_contacts, 0u);
+
+  ASSERT_GT(time_to_sleep(world, all, 5.0), 0.0);
+  world.step(kTick);
+  const StepStats asleep = world.last_step_stats();
+  EXPECT_EQ(asleep.integrated_bodies, 0u);
+  EXPECT_EQ(asleep.narrowphase_pairs, 0u);
+  EXPECT_EQ(asleep.solved_contacts, 0u);
+  EXPECT_EQ(asleep.moved_proxies, 0u);
+  // The contacts persist, so waking up starts warm.
+  EXPECT_GT(world.contact_count(), 0u);
+}
+
+TEST(SleepingTest, ImpulseWakesTheWholeIslandOnly) {
+  World world;
+  world.add_body(ground_plane());
+  const std::vector<BodyId> left = add_column(world, 0.0, 4);
+  const std::vector<BodyId> right = add_column(world, 5.0, 4);
+  std::vector<BodyId> both = left;
+  both.insert(both.end(), right.begin(), right.end());
+  ASSERT_GT(time_to_sleep(world, both, 5.0), 0.0);
+
+  // A push on the top box of the left column wakes that column (one island
+  // through its touching contacts) but not the other, which touches the
+  // left one only through the static ground.
+  world.apply_impulse(left.back(), Vec3(0.01, 0.0, 0.0));
+  EXPECT_TRUE(all_awake(world, left));
+  EXPECT_TRUE(all_asleep(world, right));
+  world.step(kTick);
+  EXPECT_GT(world.linear_velocity(left.back()).x(), 0.0);
+  EXPECT_TRUE(all_asleep(world, right));
+
+  // And it settles and sleeps again.
+  EXPECT_GT(time_to_sleep(world, left, 5.0), 0.0);
+}
+
+TEST(SleepingTest, ForcesAndStateChangesWake) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId box = world.add_body(box_body(Vec3(0.0, 0.5, 0.0)));
+  ASSERT_GT(time_to_sleep(world, {box}, 5.0), 0.0);
+  world.add_force(box, Vec3(0.0, 1.0, 0.0));
+  EXPECT_TRUE(world.is_awake(box));
+  ASSERT_GT(time_to_sleep(world, {box}, 5.0), 0.0);
+  world.add_torque(box, Vec3(0.0, 0.1, 0.0));
+  EXPECT_TRUE(world.is_awake(box));
+  ASSERT_GT(time_to_sleep(world, {box}, 5.0), 0.0);
+  world.set_state(box, Vec3(0.0, 0.5, 0.0), Quat::Identity(), Vec3::Zero(), Vec3::Zero());
+  EXPECT_TRUE(world.is_awake(box));
+  ASSERT_GT(time_to_sleep(world, {box}, 5.0), 0.0);
+  world.wake(box);
+  EXPECT_TRUE(world.is_awake(box));
+}
+
+TEST(SleepingTest, FallingBodyWakesSleepingOne) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId box = world.add_body(box_body(Vec3(0.0, 0.5, 0.0)));
+  ASSERT_GT(time_to_sleep(world, {box}, 5.0), 0.0);
+  BodyDesc ball = sphere_body(Vec3(0.4, 3.0, 0.0), 0.25, 5.0);  // heavy, off centre
+  world.add_body(ball);
+  bool woke = false;
+  for (int i = 0; i < 240 && !woke; ++i) {
+    world.step(kTick);
+    woke = world.is_awake(box);
+  }
+  EXPECT_TRUE(woke);
+}
+
+TEST(SleepingTest, FreeBodiesDoNotSleep) {
+  World world;
+  world.set_gravity(Vec3::Zero());
+  BodyDesc drifting = box_body(Vec3::Zero());
+  drifting.linear_velocity = Vec3(0.001, 0.0, 0.0);  // slower than the sleep speed
+  const BodyId box = world.add_body(drifting);
+  for (int i = 0; i < 3 * 240; ++i) world.step(kTick);
+  EXPECT_TRUE(world.is_awake(box));
+  EXPECT_NEAR(world.position(box).x(), 0.003, 1e-12);
+}
+
+}  // namespace
+}  // namespace tumble::physics
