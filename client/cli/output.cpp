@@ -115,6 +115,8 @@ std::string shape_name(const tumble::v1::Shape& shape) {
     case tumble::v1::Shape::kSphere: return "sphere";
     case tumble::v1::Shape::kCapsule: return "capsule";
     case tumble::v1::Shape::kPoints: return "points";
+    case tumble::v1::Shape::kPlane: return "plane";
+    case tumble::v1::Shape::kConvex: return "convex";
     case tumble::v1::Shape::KIND_NOT_SET: break;
   }
   return "";

@@ -5,7 +5,9 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "physics/convex_hull.h"
 #include "physics/mass_properties.h"
+#include "physics/shape.h"
 
 namespace tumble::sim {
 namespace {
@@ -34,10 +36,39 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
   Status status;
 
   if (shape.kind_case() == tumble::v1::Shape::KIND_NOT_SET) {
-    return Status::error(shape_path + ": expected one of box, sphere, capsule, points");
+    return Status::error(shape_path + ": expected one of box, sphere, capsule, points, plane, convex");
   }
-  if (shape.kind_case() != tumble::v1::Shape::kPoints) {
+  switch (spec.motion()) {
+    case tumble::v1::MOTION_DYNAMIC: desc->motion_type = physics::MotionType::dynamic_body; break;
+    case tumble::v1::MOTION_STATIC: desc->motion_type = physics::MotionType::static_body; break;
+    case tumble::v1::MOTION_KINEMATIC: desc->motion_type = physics::MotionType::kinematic_body; break;
+    default: return Status::error(where + ".motion: unknown motion type " + std::to_string(spec.motion()));
+  }
+  const bool dynamic = desc->motion_type == physics::MotionType::dynamic_body;
+  if (shape.kind_case() == tumble::v1::Shape::kPlane && dynamic) {
+    return Status::error(shape_path + ".plane: a plane must be static (\"static\": true)");
+  }
+  if (shape.kind_case() == tumble::v1::Shape::kPoints && !dynamic) {
+    return Status::error(shape_path + ".points: point masses have no collision shape, so they must be dynamic");
+  }
+  // Static and kinematic bodies have infinite mass; a mass given for them is
+  // ignored.
+  if (dynamic && shape.kind_case() != tumble::v1::Shape::kPoints) {
     if (!(status = check_positive(spec.mass(), where + ".mass")).ok()) return status;
+  }
+  const double mass = dynamic ? spec.mass() : 1.0;
+
+  if (spec.has_friction()) {
+    if (!within_limits(spec.friction()) || spec.friction() < 0) {
+      return Status::error(where + ".friction: must be a finite number >= 0");
+    }
+    desc->friction = spec.friction();
+  }
+  if (spec.has_restitution()) {
+    if (!std::isfinite(spec.restitution()) || spec.restitution() < 0 || spec.restitution() > 1) {
+      return Status::error(where + ".restitution: must be between 0 and 1");
+    }
+    desc->restitution = spec.restitution();
   }
 
   switch (shape.kind_case()) {
@@ -49,7 +80,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       }
       desc->shape.type = physics::ShapeType::box;
       desc->shape.half_extents = to_vec3(h);
-      desc->mass_properties = physics::box_mass_properties(spec.mass(), desc->shape.half_extents);
+      desc->mass_properties = physics::box_mass_properties(mass, desc->shape.half_extents);
       break;
     }
     case tumble::v1::Shape::kSphere: {
@@ -57,7 +88,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       if (!(status = check_positive(radius, shape_path + ".sphere.radius")).ok()) return status;
       desc->shape.type = physics::ShapeType::sphere;
       desc->shape.radius = radius;
-      desc->mass_properties = physics::sphere_mass_properties(spec.mass(), radius);
+      desc->mass_properties = physics::sphere_mass_properties(mass, radius);
       break;
     }
     case tumble::v1::Shape::kCapsule: {
@@ -70,7 +101,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       desc->shape.radius = capsule.radius();
       desc->shape.half_height = capsule.half_height();
       desc->mass_properties =
-          physics::capsule_mass_properties(spec.mass(), capsule.radius(), capsule.half_height());
+          physics::capsule_mass_properties(mass, capsule.radius(), capsule.half_height());
       break;
     }
     case tumble::v1::Shape::kPoints: {
@@ -106,6 +137,46 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       }
       break;
     }
+    case tumble::v1::Shape::kPlane: {
+      const std::string path = shape_path + ".plane";
+      physics::Vec3 normal = physics::Vec3::UnitY();
+      if (shape.plane().has_normal()) {
+        if (!(status = check_vec3(shape.plane().normal(), path + ".normal")).ok()) return status;
+        normal = to_vec3(shape.plane().normal());
+        if (normal.norm() < 1e-9) return Status::error(path + ".normal: must not be zero");
+        normal.normalize();
+      }
+      if (!within_limits(shape.plane().offset())) {
+        return Status::error(path + ".offset: must be finite and at most 1e9 in magnitude");
+      }
+      // The plane is given in world coordinates: the body stays at the
+      // origin, unrotated, and its pose fields are ignored.
+      desc->shape = physics::plane_shape(normal, shape.plane().offset());
+      return {};
+    }
+    case tumble::v1::Shape::kConvex: {
+      const std::string path = shape_path + ".convex.points";
+      const auto& points = shape.convex().points();
+      if (points.size() < 4) return Status::error(path + ": needs at least four points");
+      if (points.size() > kMaxConvexPoints) {
+        return Status::error(path + ": at most " + std::to_string(kMaxConvexPoints) + " points");
+      }
+      std::vector<physics::Vec3> cloud;
+      cloud.reserve(static_cast<std::size_t>(points.size()));
+      for (int i = 0; i < points.size(); ++i) {
+        if (!(status = check_vec3(points[i], path + "[" + std::to_string(i) + "]")).ok()) return status;
+        cloud.push_back(to_vec3(points[i]));
+      }
+      const auto hull = physics::build_convex_hull(cloud);
+      if (!hull) return Status::error(path + ": the points span no volume (all coplanar)");
+      // Re-centre the hull on its centre of mass: a body's position is its
+      // centre of mass, so the shape must be centred on it.
+      const physics::MassProperties uncentred = physics::convex_hull_mass_properties(*hull, mass);
+      const auto centred = physics::translate_convex_hull(*hull, -uncentred.center);
+      desc->shape = physics::convex_hull_shape(centred);
+      desc->mass_properties = physics::convex_hull_mass_properties(*centred, mass);
+      break;
+    }
     case tumble::v1::Shape::KIND_NOT_SET:
       break;
   }
@@ -135,6 +206,8 @@ const char* shape_kind_name(const tumble::v1::Shape& shape) {
     case tumble::v1::Shape::kSphere: return "sphere";
     case tumble::v1::Shape::kCapsule: return "capsule";
     case tumble::v1::Shape::kPoints: return "points";
+    case tumble::v1::Shape::kPlane: return "plane";
+    case tumble::v1::Shape::kConvex: return "convex";
     case tumble::v1::Shape::KIND_NOT_SET: break;
   }
   return "none";

@@ -1,6 +1,9 @@
 // Turns a tumble.v1.BodySpec (from a scene file or a client) into the
 // physics engine's BodyDesc, checking that it describes a real body:
-// positive mass and sizes, a unit orientation, finite numbers.
+// positive mass and sizes, a unit orientation, finite numbers, friction >= 0
+// and restitution in [0, 1]. Planes must be static and point masses dynamic;
+// static and kinematic bodies need no mass. A convex shape is re-centred on
+// its centre of mass.
 #pragma once
 
 #include <string>
@@ -16,13 +19,17 @@ namespace tumble::sim {
 // within a few steps.
 inline constexpr double kMaxMagnitude = 1e9;
 
+// Most points accepted for a convex shape: the hull is built in O(n^2) at
+// load time, and a bigger cloud is surely a mesh sent by mistake.
+inline constexpr int kMaxConvexPoints = 4096;
+
 // Fills `desc` from `spec`. `where` names the body in errors, e.g.
 // "bodies[3]"; messages name the offending field below it.
 Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where,
                            physics::BodyDesc* desc);
 
 // The name of the shape kind as written in scene files: "box", "sphere",
-// "capsule", "points", or "none".
+// "capsule", "points", "plane", "convex", or "none".
 const char* shape_kind_name(const tumble::v1::Shape& shape);
 
 }  // namespace tumble::sim

@@ -39,6 +39,11 @@ double read_number(const json& value, const std::string& path) {
   return number;
 }
 
+bool read_bool(const json& value, const std::string& path) {
+  if (!value.is_boolean()) fail(path, "expected true or false");
+  return value.get<bool>();
+}
+
 std::string read_string(const json& value, const std::string& path) {
   if (!value.is_string()) fail(path, "expected a string");
   return value.get<std::string>();
@@ -60,8 +65,8 @@ void read_quat(const json& value, const std::string& path, tumble::v1::Quat* out
 }
 
 void read_shape(const json& value, const std::string& path, tumble::v1::Shape* shape) {
-  require_object(value, path, {"box", "sphere", "capsule", "points"});
-  if (value.size() != 1) fail(path, "expected exactly one of box, sphere, capsule, points");
+  require_object(value, path, {"box", "sphere", "capsule", "points", "plane", "convex"});
+  if (value.size() != 1) fail(path, "expected exactly one of box, sphere, capsule, points, plane, convex");
   const auto& [kind, body] = *value.items().begin();
   const std::string where = path + "." + kind;
   if (kind == "box") {
@@ -79,6 +84,22 @@ void read_shape(const json& value, const std::string& path, tumble::v1::Shape* s
     auto* capsule = shape->mutable_capsule();
     capsule->set_radius(read_number(body["radius"], where + ".radius"));
     capsule->set_half_height(read_number(body["half_height"], where + ".half_height"));
+  } else if (kind == "plane") {
+    require_object(body, where, {"normal", "offset"});
+    auto* plane = shape->mutable_plane();
+    if (body.contains("normal")) {
+      read_vec3(body["normal"], where + ".normal", plane->mutable_normal());
+    }
+    if (body.contains("offset")) plane->set_offset(read_number(body["offset"], where + ".offset"));
+  } else if (kind == "convex") {
+    require_object(body, where, {"points"});
+    if (!body.contains("points")) fail(where, "missing field 'points'");
+    const json& points = body["points"];
+    if (!points.is_array()) fail(where + ".points", "expected an array of [x, y, z] arrays");
+    auto* convex = shape->mutable_convex();
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      read_vec3(points[i], where + ".points[" + std::to_string(i) + "]", convex->add_points());
+    }
   } else {
     require_object(body, where, {"masses", "positions"});
     const json& masses = body.contains("masses") ? body["masses"] : json();
@@ -100,8 +121,16 @@ void read_shape(const json& value, const std::string& path, tumble::v1::Shape* s
 
 void read_body(const json& value, const std::string& path, tumble::v1::BodySpec* body) {
   require_object(value, path,
-                 {"name", "shape", "mass", "position", "orientation", "linear_velocity", "angular_velocity"});
+                 {"name", "shape", "mass", "position", "orientation", "linear_velocity", "angular_velocity", "static",
+                  "kinematic", "friction", "restitution"});
   if (value.contains("name")) body->set_name(read_string(value["name"], path + ".name"));
+  const bool is_static = value.contains("static") && read_bool(value["static"], path + ".static");
+  const bool is_kinematic = value.contains("kinematic") && read_bool(value["kinematic"], path + ".kinematic");
+  if (is_static && is_kinematic) fail(path, "a body cannot be both static and kinematic");
+  if (is_static) body->set_motion(tumble::v1::MOTION_STATIC);
+  if (is_kinematic) body->set_motion(tumble::v1::MOTION_KINEMATIC);
+  if (value.contains("friction")) body->set_friction(read_number(value["friction"], path + ".friction"));
+  if (value.contains("restitution")) body->set_restitution(read_number(value["restitution"], path + ".restitution"));
   if (!value.contains("shape")) fail(path, "missing field 'shape'");
   read_shape(value["shape"], path + ".shape", body->mutable_shape());
   if (value.contains("mass")) body->set_mass(read_number(value["mass"], path + ".mass"));

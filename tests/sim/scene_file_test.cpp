@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "physics/convex_hull.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -70,6 +71,52 @@ TEST(SceneFile, ShapesMapToTheirMassProperties) {
   EXPECT_TRUE(world.position(world.body_id_at(2)).isApprox(physics::Vec3(10, 0, 0)));
 }
 
+TEST(SceneFile, MaterialsMotionTypesPlanesAndHulls) {
+  tumble::v1::Scene scene;
+  const Status parsed = parse(R"({"bodies": [
+      {"name": "ground", "static": true, "shape": {"plane": {"normal": [0, 2, 0], "offset": -1}}},
+      {"name": "ramp", "static": true, "shape": {"box": {"half_extents": [2, 0.1, 2]}}, "friction": 0.9},
+      {"name": "lift", "kinematic": true, "shape": {"box": {"half_extents": [1, 0.1, 1]}},
+       "linear_velocity": [0, 0.5, 0]},
+      {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "restitution": 0.8},
+      {"name": "wedge", "shape": {"convex": {"points": [[0,0,0],[3,0,0],[0,3,0],[0,0,3]]}}, "mass": 6,
+       "position": [5, 5, 5]}]})",
+                              &scene);
+  ASSERT_TRUE(parsed.ok()) << parsed.message();
+  std::unique_ptr<Simulation> sim;
+  const Status created = Simulation::create(scene, SimConfig{}, &sim);
+  ASSERT_TRUE(created.ok()) << created.message();
+  const auto& world = sim->world();
+  const physics::BodyId ground = world.body_id_at(0);
+  EXPECT_EQ(world.motion_type(ground), physics::MotionType::static_body);
+  // The normal is normalised; the plane stays where the file put it.
+  EXPECT_TRUE(world.shape(ground).plane_normal.isApprox(physics::Vec3::UnitY()));
+  EXPECT_DOUBLE_EQ(world.shape(ground).plane_offset, -1.0);
+  EXPECT_DOUBLE_EQ(world.friction(ground), 0.5);  // the default
+  EXPECT_EQ(world.motion_type(world.body_id_at(1)), physics::MotionType::static_body);
+  EXPECT_DOUBLE_EQ(world.friction(world.body_id_at(1)), 0.9);
+  EXPECT_EQ(world.motion_type(world.body_id_at(2)), physics::MotionType::kinematic_body);
+  EXPECT_TRUE(world.linear_velocity(world.body_id_at(2)).isApprox(physics::Vec3(0, 0.5, 0)));
+  EXPECT_DOUBLE_EQ(world.restitution(world.body_id_at(3)), 0.8);
+  EXPECT_DOUBLE_EQ(world.restitution(world.body_id_at(0)), 0.0);  // the default
+  // The hull is re-centred on its centre of mass, a quarter of the way along
+  // each leg of this right tetrahedron. The tetrahedron is unchanged by any
+  // permutation of the axes, so its inertia about that centre has equal
+  // diagonal entries.
+  const physics::BodyId wedge = world.body_id_at(4);
+  EXPECT_EQ(world.shape(wedge).type, physics::ShapeType::convex_hull);
+  EXPECT_TRUE(world.position(wedge).isApprox(physics::Vec3(5, 5, 5)));
+  const physics::Mat3& inertia = world.inertia_body(wedge);
+  EXPECT_NEAR(inertia(0, 0), inertia(1, 1), 1e-9);
+  EXPECT_NEAR(inertia(1, 1), inertia(2, 2), 1e-9);
+  // Each vertex of the centred hull is the file's point minus the centroid (3/4, 3/4, 3/4).
+  bool found_origin_corner = false;
+  for (const physics::Vec3& v : world.shape(wedge).hull->vertices) {
+    found_origin_corner = found_origin_corner || v.isApprox(physics::Vec3(-0.75, -0.75, -0.75));
+  }
+  EXPECT_TRUE(found_origin_corner);
+}
+
 TEST(SceneFile, ErrorsNameTheField) {
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"box": {"half_extents": [1, 1]}}, "mass": 1}]})"),
             "bodies[0].shape.box.half_extents: expected an array of 3 numbers [x, y, z]");
@@ -96,6 +143,23 @@ TEST(SceneFile, ErrorsNameTheField) {
             "bodies[0].shape.points: the points are collinear, so the body has no rotational inertia about one "
             "axis");
   EXPECT_EQ(load_error(R"({"gravity": [0, "down", 0]})"), "gravity[1]: expected a number");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"plane": {}}}]})"),
+            "bodies[0].shape.plane: a plane must be static (\"static\": true)");
+  EXPECT_EQ(load_error(R"({"bodies": [{"static": true, "shape": {"plane": {"normal": [0, 0, 0]}}}]})"),
+            "bodies[0].shape.plane.normal: must not be zero");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"convex": {"points": [[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}},
+                                      "mass": 1}]})"),
+            "bodies[0].shape.convex.points: the points span no volume (all coplanar)");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"convex": {"points": [[0,0,0],[1,0,0],[0,1,0]]}}, "mass": 1}]})"),
+            "bodies[0].shape.convex.points: needs at least four points");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1, "friction": -0.1}]})"),
+            "bodies[0].friction: must be a finite number >= 0");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1, "restitution": 1.5}]})"),
+            "bodies[0].restitution: must be between 0 and 1");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "static": true, "kinematic": true}]})"),
+            "bodies[0]: a body cannot be both static and kinematic");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "static": "yes"}]})"),
+            "bodies[0].static: expected true or false");
 }
 
 TEST(SceneFile, NotJsonSaysWhere) {
@@ -113,15 +177,52 @@ TEST(SceneFile, MissingFileNamesThePath) {
   EXPECT_EQ(status.message(), "/nonexistent/world.json: cannot open the file");
 }
 
-TEST(SceneFile, TheShippedDemoSceneLoads) {
+class ShippedScene : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ShippedScene, Loads) {
   tumble::v1::Scene scene;
-  const Status status = load_scene_file(TUMBLE_SCENES_DIR "/demo.json", &scene);
+  const Status status = load_scene_file(std::string(TUMBLE_SCENES_DIR "/") + GetParam(), &scene);
   ASSERT_TRUE(status.ok()) << status.message();
   std::unique_ptr<Simulation> sim;
   const Status created = Simulation::create(scene, SimConfig{}, &sim);
   ASSERT_TRUE(created.ok()) << created.message();
   EXPECT_GE(sim->body_count(), 1u);
 }
+
+// The playground is the collision showcase: after 20 s every dynamic body
+// is resting on or above the ground, the crate column still stands, the ball
+// has stopped bouncing and the rider has gone round with the turntable.
+TEST(SceneFile, ThePlaygroundSettles) {
+  tumble::v1::Scene scene;
+  ASSERT_TRUE(load_scene_file(TUMBLE_SCENES_DIR "/playground.json", &scene).ok());
+  std::unique_ptr<Simulation> sim;
+  ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
+  for (int i = 0; i < 20 * 240; ++i) sim->run_tick();
+  const auto& world = sim->world();
+  for (std::size_t i = 0; i < world.body_count(); ++i) {
+    const physics::BodyId id = world.body_id_at(i);
+    if (world.motion_type(id) != physics::MotionType::dynamic_body) continue;
+    EXPECT_GT(world.position(id).y(), 0.15) << scene.bodies(static_cast<int>(id)).name();
+  }
+  // Crates 1..4 are bodies 3..6: the column stands where it was put.
+  for (int k = 0; k < 4; ++k) {
+    const physics::Vec3 expected(0, 0.5 + k, 0);
+    EXPECT_LT((world.position(world.body_id_at(3 + static_cast<std::size_t>(k))) - expected).norm(), 0.02)
+        << "crate" << k + 1;
+  }
+  EXPECT_LT(world.linear_velocity(world.body_id_at(7)).norm(), 0.05) << "ball";
+  // The rider started 0.8 m from the turntable's axis on +x: turning with it
+  // it has left the x axis but stayed on the table.
+  const physics::Vec3 rider = world.position(world.body_id_at(11)) - physics::Vec3(6, 0, 4);
+  EXPECT_GT(std::abs(rider.z()), 0.1);
+  EXPECT_LT(std::hypot(rider.x(), rider.z()), 1.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(SceneFile, ShippedScene, ::testing::Values("demo.json", "playground.json"),
+                         [](const ::testing::TestParamInfo<const char*>& param_info) {
+                           std::string name = param_info.param;
+                           return name.substr(0, name.find('.'));
+                         });
 
 }  // namespace
 }  // namespace tumble::sim
