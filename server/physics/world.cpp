@@ -97,6 +97,15 @@ void World::set_kinematic_awake(std::size_t i) {
 }
 
 BodyId World::add_body(const BodyDesc& desc) {
+  assert(id_to_dense_.size() < kInvalidBodyId);
+  return add_body_with_id(desc, static_cast<BodyId>(id_to_dense_.size()));
+}
+
+BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) {
+  assert(id != kInvalidBodyId && !contains(id));
+  // Ids between the next one and `id` are marked unused: they are never
+  // handed out, as if their bodies had been removed.
+  if (id >= id_to_dense_.size()) id_to_dense_.resize(static_cast<std::size_t>(id) + 1, kNoIndex);
   const MotionType motion = desc.shape.type == ShapeType::plane ? MotionType::static_body : desc.motion_type;
   const bool dynamic = motion == MotionType::dynamic_body;
   const MassProperties& props = desc.mass_properties;
@@ -106,11 +115,9 @@ BodyId World::add_body(const BodyDesc& desc) {
     assert(props.inertia.llt().info() == Eigen::Success);  // positive definite
   }
   assert(desc.shape.type != ShapeType::convex_hull || desc.shape.hull != nullptr);
-  assert(id_to_dense_.size() < kInvalidBodyId);
 
-  const BodyId id = static_cast<BodyId>(id_to_dense_.size());
   const std::uint32_t index = static_cast<std::uint32_t>(states_.size());
-  id_to_dense_.push_back(index);
+  id_to_dense_[id] = index;
   dense_to_id_.push_back(id);
 
   BodyMass mass;
@@ -357,6 +364,29 @@ void World::apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& w
   // The angular impulse about the centre of mass, (r - x) x J.
   state.angular_momentum += (world_point - state.position).cross(impulse);
 }
+
+void World::set_next_body_id(BodyId next) {
+  assert(next >= id_to_dense_.size() && next != kInvalidBodyId);
+  id_to_dense_.resize(next, kNoIndex);
+}
+
+void World::restore_dynamics(BodyId id, const Vec3& linear_momentum, const Vec3& angular_momentum, bool awake,
+                             double sleep_time) {
+  const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
+  if (!is_dynamic(i)) return;
+  states_[i].linear_momentum = linear_momentum;
+  states_[i].angular_momentum = angular_momentum;
+  if (awake) {
+    wake_island(i);
+    records_[i].sleep_time = sleep_time;
+  } else {
+    put_to_sleep(i);
+    records_[i].sleep_time = sleep_time;
+  }
+  refresh_solver_data(i);
+}
+
+double World::sleep_time(BodyId id) const { return records_[dense_index(id)].sleep_time; }
 
 void World::wake(BodyId id) { wake_island(static_cast<std::uint32_t>(dense_index(id))); }
 

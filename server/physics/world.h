@@ -112,6 +112,21 @@ class World {
   // plane shape makes a static body whatever desc.motion_type says. Bodies
   // start awake; a new static body wakes the sleeping bodies it overlaps.
   BodyId add_body(const BodyDesc& desc);
+  // Restoring a saved world: creates a body under a given id, which must not
+  // be in use and may exceed the next id (the ids in between are never
+  // handed out). Otherwise as add_body.
+  BodyId add_body_with_id(const BodyDesc& desc, BodyId id);
+  // The id the next add_body hands out; set_next_body_id raises it (never
+  // lowers it), so a restored world keeps the ids of removed bodies unused.
+  BodyId next_body_id() const { return static_cast<BodyId>(id_to_dense_.size()); }
+  void set_next_body_id(BodyId next);
+  // Overwrites a dynamic body's momenta P, L exactly (BodyDesc gives them
+  // as velocities, which M v rounds) and its sleep state: awake with the
+  // time it has been slow (s), or asleep. Others are left alone.
+  void restore_dynamics(BodyId id, const Vec3& linear_momentum, const Vec3& angular_momentum, bool awake,
+                        double sleep_time);
+  double sleep_time(BodyId id) const;  // s the body has been slower than sleep_speed
+
   // Destroys a body and its contacts, waking the bodies it touched. Returns
   // false if the id is unknown. Other ids stay valid; the last body in dense
   // order takes the removed body's index.
