@@ -370,20 +370,27 @@ void World::set_next_body_id(BodyId next) {
   id_to_dense_.resize(next, kNoIndex);
 }
 
-void World::restore_dynamics(BodyId id, const Vec3& linear_momentum, const Vec3& angular_momentum, bool awake,
-                             double sleep_time) {
+void World::restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
+                          const Vec3& angular_momentum, bool awake, double sleep_time) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
-  if (!is_dynamic(i)) return;
-  states_[i].linear_momentum = linear_momentum;
-  states_[i].angular_momentum = angular_momentum;
-  if (awake) {
-    wake_island(i);
-    records_[i].sleep_time = sleep_time;
-  } else {
-    put_to_sleep(i);
-    records_[i].sleep_time = sleep_time;
+  BodyState& state = states_[i];
+  // Taken as given, not re-normalised: normalising a unit quaternion again
+  // can change its last bits.
+  state.position = position;
+  state.orientation = orientation;
+  if (is_dynamic(i)) {
+    state.linear_momentum = linear_momentum;
+    state.angular_momentum = angular_momentum;
+    if (awake) {
+      wake_island(i);
+      records_[i].sleep_time = sleep_time;
+    } else {
+      put_to_sleep(i);
+      records_[i].sleep_time = sleep_time;
+    }
   }
   refresh_solver_data(i);
+  aabbs_[i] = shape_aabb(i);
 }
 
 double World::sleep_time(BodyId id) const { return records_[dense_index(id)].sleep_time; }

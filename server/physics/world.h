@@ -120,11 +120,13 @@ class World {
   // lowers it), so a restored world keeps the ids of removed bodies unused.
   BodyId next_body_id() const { return static_cast<BodyId>(id_to_dense_.size()); }
   void set_next_body_id(BodyId next);
-  // Overwrites a dynamic body's momenta P, L exactly (BodyDesc gives them
-  // as velocities, which M v rounds) and its sleep state: awake with the
-  // time it has been slow (s), or asleep. Others are left alone.
-  void restore_dynamics(BodyId id, const Vec3& linear_momentum, const Vec3& angular_momentum, bool awake,
-                        double sleep_time);
+  // Puts back a body's saved state bit-exactly, right after it was created
+  // with add_body_with_id from a desc with the same pose: its pose (orientation taken as given, a unit
+  // quaternion), and for a dynamic body the momenta P, L (BodyDesc gives
+  // them as velocities, which M v would round) and its sleep state: awake
+  // or asleep, with the time it has been slow (s).
+  void restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
+                     const Vec3& angular_momentum, bool awake, double sleep_time);
   double sleep_time(BodyId id) const;  // s the body has been slower than sleep_speed
 
   // Destroys a body and its contacts, waking the bodies it touched. Returns

@@ -42,7 +42,8 @@ World restore(const std::vector<SavedBody>& saved, BodyId next_id) {
   World world;
   for (const SavedBody& body : saved) {
     EXPECT_EQ(world.add_body_with_id(body.desc, body.id), body.id);
-    world.restore_dynamics(body.id, body.linear_momentum, body.angular_momentum, body.awake, body.sleep_time);
+    world.restore_state(body.id, body.desc.position, body.desc.orientation, body.linear_momentum, body.angular_momentum,
+                        body.awake, body.sleep_time);
   }
   world.set_next_body_id(next_id);
   return world;
@@ -123,7 +124,8 @@ TEST(RestoreTest, WakingARestoredSleepingColumnWakesItAll) {
     BodyDesc desc = box_body(world.position(id));
     desc.orientation = world.orientation(id);
     copy.add_body_with_id(desc, id);
-    copy.restore_dynamics(id, world.linear_momentum(id), world.angular_momentum(id), false, 0);
+    copy.restore_state(id, world.position(id), world.orientation(id), world.linear_momentum(id),
+                       world.angular_momentum(id), false, 0);
   }
   EXPECT_EQ(copy.sleeping_body_count(), 3u);
   // Knock the bottom box out sideways: the boxes above it must fall.
