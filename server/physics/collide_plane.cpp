@@ -9,11 +9,21 @@
 namespace tumble::physics {
 namespace {
 
-// Adds a vertex v of A at height h above the plane to the candidates.
+// Adds a vertex v of A at height h above the plane to the candidates. Once
+// they are full, a deeper vertex takes the place of the shallowest one, so
+// the deepest vertices are kept whatever their order.
 void add_candidate(const Vec3& v, double h, std::uint32_t id, double max_separation, ClipPoint* out, int* count,
                    int capacity) {
-  if (h > max_separation || *count >= capacity) return;
-  out[(*count)++] = {v, h, id};
+  if (h > max_separation) return;
+  if (*count < capacity) {
+    out[(*count)++] = {v, h, id};
+    return;
+  }
+  int shallowest = 0;
+  for (int i = 1; i < capacity; ++i) {
+    if (out[i].separation > out[shallowest].separation) shallowest = i;
+  }
+  if (h < out[shallowest].separation) out[shallowest] = {v, h, id};
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // Islands and sleeping: resting islands fall asleep, cost nothing while
-// asleep, and wake as a whole when disturbed.
+// asleep (a 100-box pile included), and wake as a whole when disturbed.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -84,6 +84,41 @@ TEST(SleepingTest, SleepingPileCostsNothing) {
   EXPECT_EQ(asleep.moved_proxies, 0u);
   // The contacts persist, so waking up starts warm.
   EXPECT_GT(world.contact_count(), 0u);
+}
+
+TEST(SleepingTest, SleepingHundredBoxPileCostsNothing) {
+  // 100 unit boxes: a 5 x 5 block of columns four high, neighbours touching
+  // side to side, so the pile is one island.
+  World world;
+  world.add_body(ground_plane());
+  std::vector<BodyId> pile;
+  std::vector<Vec3> start;
+  for (int i = 0; i < 5; ++i) {
+    for (int k = 0; k < 5; ++k) {
+      for (int layer = 0; layer < 4; ++layer) {
+        start.emplace_back(i, 0.5 + layer, k);
+        pile.push_back(world.add_body(box_body(start.back())));
+      }
+    }
+  }
+  ASSERT_EQ(pile.size(), 100u);
+  world.step(kTick);
+  EXPECT_EQ(world.last_step_stats().integrated_bodies, 100u);
+  EXPECT_GE(world.last_step_stats().narrowphase_pairs, 100u);
+
+  ASSERT_GT(time_to_sleep(world, pile, 5.0), 0.0);
+  EXPECT_EQ(world.sleeping_body_count(), 100u);
+  for (int i = 0; i < 10; ++i) {
+    world.step(kTick);
+    const StepStats& asleep = world.last_step_stats();
+    EXPECT_EQ(asleep.integrated_bodies, 0u);
+    EXPECT_EQ(asleep.narrowphase_pairs, 0u);
+    EXPECT_EQ(asleep.manifolds_computed, 0u);
+    EXPECT_EQ(asleep.solved_contacts, 0u);
+    EXPECT_EQ(asleep.moved_proxies, 0u);
+  }
+  // It went to sleep standing: every box within 2 cm of where it started.
+  for (std::size_t n = 0; n < pile.size(); ++n) EXPECT_LT((world.position(pile[n]) - start[n]).norm(), 0.02);
 }
 
 TEST(SleepingTest, ImpulseWakesTheWholeIslandOnly) {

@@ -1,0 +1,198 @@
+// World::step does not allocate once warmed up (world.h: "step() does not
+// allocate once the arrays have grown to the scene"). This binary replaces
+// the global operator new and delete to count allocations, which is why it
+// is an executable of its own. A pile of boxes, spheres, capsules and a hull
+// on a plane and a static box falls, settles and sleeps; a kick and a ball
+// dropped on it wake it again. After two such cycles of warm-up, a third
+// one of 600 steps (sleeping, waking, settling, sleeping again) must not
+// allocate at all.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstddef>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+#include "physics/convex_hull.h"
+#include "physics/mass_properties.h"
+#include "physics/world.h"
+#include "scene_helpers.h"
+
+namespace {
+
+std::atomic<bool> counting{false};
+std::atomic<std::size_t> allocation_count{0};
+
+void* counted_allocate(std::size_t size) {
+  if (counting.load(std::memory_order_relaxed)) allocation_count.fetch_add(1, std::memory_order_relaxed);
+  return std::malloc(size == 0 ? 1 : size);
+}
+
+void* counted_allocate_aligned(std::size_t size, std::align_val_t alignment) {
+  if (counting.load(std::memory_order_relaxed)) allocation_count.fetch_add(1, std::memory_order_relaxed);
+  const std::size_t align = static_cast<std::size_t>(alignment);
+  const std::size_t rounded = (size + align - 1) / align * align;  // aligned_alloc wants a multiple
+  return std::aligned_alloc(align, rounded == 0 ? align : rounded);
+}
+
+}  // namespace
+
+void* operator new(std::size_t size) {
+  if (void* p = counted_allocate(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size) {
+  if (void* p = counted_allocate(size)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_allocate(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_allocate(size); }
+void* operator new(std::size_t size, std::align_val_t alignment) {
+  if (void* p = counted_allocate_aligned(size, alignment)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t size, std::align_val_t alignment) {
+  if (void* p = counted_allocate_aligned(size, alignment)) return p;
+  throw std::bad_alloc();
+}
+void* operator new(std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
+  return counted_allocate_aligned(size, alignment);
+}
+void* operator new[](std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
+  return counted_allocate_aligned(size, alignment);
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+
+namespace tumble::physics {
+namespace {
+
+using testing::box_body;
+using testing::ground_plane;
+using testing::kTick;
+using testing::sphere_body;
+
+// Counts the allocations made while it lives.
+class AllocationCounter {
+ public:
+  AllocationCounter() {
+    allocation_count.store(0);
+    counting.store(true);
+  }
+  ~AllocationCounter() { counting.store(false); }
+  AllocationCounter(const AllocationCounter&) = delete;
+  AllocationCounter& operator=(const AllocationCounter&) = delete;
+  std::size_t count() const { return allocation_count.load(); }
+};
+
+TEST(AllocationTest, CounterSeesAllocations) {
+  // The replacement is in effect: a vector's buffer and a direct call of
+  // the aligned operator new are counted. (The vector is static, so its
+  // buffer escapes and the allocation cannot be elided.)
+  static std::vector<int> numbers;
+  std::size_t seen = 0;
+  {
+    AllocationCounter counter;
+    numbers.resize(100);
+    void* raw = ::operator new(256, std::align_val_t{64});
+    ::operator delete(raw, std::align_val_t{64});
+    seen = counter.count();
+  }
+  numbers = std::vector<int>();
+  EXPECT_EQ(seen, 2u);
+}
+
+// The pile: 3 x 3 x 2 unit boxes, a row of spheres and of capsules beside
+// it, an octahedron hull on top, a static box to one side, on the plane
+// y = 0.
+struct PileScene {
+  World world;
+  BodyId kicked = kInvalidBodyId;  // a box of the pile
+  BodyId ball = kInvalidBodyId;    // dropped on the pile to wake it
+
+  PileScene() {
+    world.add_body(ground_plane());
+    for (int layer = 0; layer < 2; ++layer) {
+      for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) {
+          const BodyId id = world.add_body(box_body(Vec3(1.05 * i, 0.5 + layer, 1.05 * k)));
+          if (layer == 1 && i == 1 && k == 1) kicked = id;
+        }
+      }
+    }
+    for (int i = 0; i < 3; ++i) world.add_body(sphere_body(Vec3(-1.5, 0.3 + 0.7 * i, 1.05 * i), 0.3));
+    for (int i = 0; i < 3; ++i) {
+      BodyDesc capsule;
+      capsule.shape = capsule_shape(0.2, 0.4);
+      capsule.mass_properties = capsule_mass_properties(1.0, 0.2, 0.4);
+      capsule.position = Vec3(1.05 * i, 0.2, -1.2);
+      capsule.orientation = Quat(Eigen::AngleAxisd(1.5707963267948966, Vec3::UnitZ()));  // lying along x
+      world.add_body(capsule);
+    }
+    const std::vector<Vec3> octahedron = {Vec3(0.4, 0, 0), Vec3(-0.4, 0, 0), Vec3(0, 0.4, 0),
+                                          Vec3(0, -0.4, 0), Vec3(0, 0, 0.4), Vec3(0, 0, -0.4)};
+    BodyDesc hull;
+    hull.shape = convex_hull_shape(build_convex_hull(octahedron));
+    hull.mass_properties = convex_hull_mass_properties(*hull.shape.hull, 1.0);
+    hull.position = Vec3(1.05, 2.5, 1.05);
+    world.add_body(hull);
+    BodyDesc wall = box_body(Vec3(4.0, 1.0, 1.0));
+    wall.shape = box_shape(Vec3(0.5, 1.0, 2.0));
+    wall.motion_type = MotionType::static_body;
+    world.add_body(wall);
+    ball = world.add_body(sphere_body(Vec3(-4.0, 0.25, -3.0), 0.25, 2.0));
+  }
+
+  // One cycle: a kick on the middle top box, and the ball lifted to fall on
+  // the pile's corner; then 600 steps. Counts how often the pile was
+  // seen fully asleep and how often woken.
+  void cycle(int* sleeping_steps, int* awake_steps) {
+    world.apply_impulse(kicked, Vec3(0.4, 0.0, 0.3));
+    world.set_state(ball, Vec3(2.1, 3.5, 2.1), Quat::Identity(), Vec3::Zero(), Vec3::Zero());
+    for (int i = 0; i < 600; ++i) {
+      world.step(kTick);
+      if (world.is_awake(kicked)) {
+        ++*awake_steps;
+      } else {
+        ++*sleeping_steps;
+      }
+    }
+  }
+};
+
+TEST(AllocationTest, SteppingAWarmPileAllocatesNothing) {
+  PileScene scene;
+  int sleeping = 0, awake = 0;
+  // Warm-up: the drop, and one wake cycle.
+  for (int i = 0; i < 600; ++i) scene.world.step(kTick);
+  scene.cycle(&sleeping, &awake);
+  ASSERT_GT(sleeping, 0) << "the pile never fell asleep in the warm-up";
+
+  sleeping = awake = 0;
+  std::size_t allocations = 0;
+  {
+    AllocationCounter counter;
+    scene.cycle(&sleeping, &awake);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  // The measured steps did go through waking and sleeping.
+  EXPECT_GT(awake, 0);
+  EXPECT_GT(sleeping, 0);
+  EXPECT_FALSE(scene.world.is_awake(scene.kicked));
+  EXPECT_GT(scene.world.sleeping_body_count(), 20u);
+}
+
+}  // namespace
+}  // namespace tumble::physics

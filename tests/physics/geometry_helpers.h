@@ -1,0 +1,111 @@
+// Small builders for the narrowphase, hull and GJK tests: poses, the corner
+// sets of boxes, prisms and regular solids, hulls centred on their centre of mass,
+// random rotations, and point-to-surface distances of boxes and hulls.
+// Header-only.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "physics/convex_hull.h"
+#include "physics/manifold.h"
+#include "physics/mass_properties.h"
+#include "physics/math.h"
+#include "physics/transform.h"
+
+namespace tumble::physics::testing {
+
+inline Transform pose(const Vec3& position, const Quat& orientation = Quat::Identity()) {
+  return Transform{position, orientation.normalized().toRotationMatrix()};
+}
+
+inline Quat rotation_about(const Vec3& axis, double angle) { return Quat(Eigen::AngleAxisd(angle, axis.normalized())); }
+
+// The eight corners (+-hx, +-hy, +-hz).
+inline std::vector<Vec3> box_corners(const Vec3& half_extents) {
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i) {
+    corners.emplace_back((i & 1) ? half_extents.x() : -half_extents.x(), (i & 2) ? half_extents.y() : -half_extents.y(),
+                         (i & 4) ? half_extents.z() : -half_extents.z());
+  }
+  return corners;
+}
+
+// A regular tetrahedron of edge length edge with its centroid at the origin
+// and one face on the plane y = -edge sqrt(2/3) / 4, facing -y. Its height
+// is edge sqrt(2/3); the centroid sits a quarter of it above the base.
+inline std::vector<Vec3> regular_tetrahedron(double edge) {
+  const double height = edge * std::sqrt(2.0 / 3.0);
+  const double base_radius = edge / std::sqrt(3.0);  // circumradius of the base triangle
+  const double base_y = -0.25 * height;
+  std::vector<Vec3> points;
+  for (int k = 0; k < 3; ++k) {
+    const double angle = 2.0 * std::numbers::pi * k / 3.0;
+    points.emplace_back(base_radius * std::cos(angle), base_y, base_radius * std::sin(angle));
+  }
+  points.emplace_back(0.0, 0.75 * height, 0.0);
+  return points;
+}
+
+// A regular octahedron with vertices at distance r along each axis.
+inline std::vector<Vec3> regular_octahedron(double r) {
+  return {Vec3(r, 0, 0), Vec3(-r, 0, 0), Vec3(0, r, 0), Vec3(0, -r, 0), Vec3(0, 0, r), Vec3(0, 0, -r)};
+}
+
+// The vertices of a prism over a regular polygon of `sides` sides and
+// circumradius `radius`, from y = -half_height to y = half_height.
+inline std::vector<Vec3> polygon_prism(int sides, double radius, double half_height) {
+  std::vector<Vec3> points;
+  for (int i = 0; i < sides; ++i) {
+    const double angle = 2.0 * std::numbers::pi * i / sides;
+    points.emplace_back(radius * std::cos(angle), -half_height, radius * std::sin(angle));
+    points.emplace_back(radius * std::cos(angle), half_height, radius * std::sin(angle));
+  }
+  return points;
+}
+
+// The hull of points moved so its centre of mass is at the origin, as a body
+// shape wants it.
+inline std::shared_ptr<const ConvexHull> centred_hull(std::span<const Vec3> points) {
+  const std::shared_ptr<const ConvexHull> hull = build_convex_hull(points);
+  if (!hull) return nullptr;
+  const MassProperties props = convex_hull_mass_properties(*hull, 1.0);
+  return translate_convex_hull(*hull, -props.center);
+}
+
+// A rotation drawn uniformly from SO(3) (Shoemake's subgroup algorithm).
+inline Quat random_rotation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double u1 = unit(rng), u2 = unit(rng), u3 = unit(rng);
+  const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
+  return Quat(a * std::sin(2 * std::numbers::pi * u2), a * std::cos(2 * std::numbers::pi * u2), b * std::sin(2 * std::numbers::pi * u3),
+              b * std::cos(2 * std::numbers::pi * u3))
+      .normalized();
+}
+
+inline Vec3 random_vector(std::mt19937& rng, double lo, double hi) {
+  std::uniform_real_distribution<double> d(lo, hi);
+  return Vec3(d(rng), d(rng), d(rng));
+}
+
+// How far a body-frame point lies outside the box along its worst axis,
+// max_k (|p_k| - h_k): zero on the surface, negative inside (the depth
+// below the nearest face), positive outside.
+inline double box_surface_height(const Vec3& local, const Vec3& half_extents) {
+  return (local.cwiseAbs() - half_extents).maxCoeff();
+}
+
+// The same for a hull: the largest height above a face plane, max over the
+// faces of n.p - offset.
+inline double hull_surface_height(const Vec3& local, const ConvexHull& hull) {
+  double height = -INFINITY;
+  for (const ConvexHull::Face& face : hull.faces) height = std::max(height, face.normal.dot(local) - face.offset);
+  return height;
+}
+
+}  // namespace tumble::physics::testing
