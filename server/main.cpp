@@ -1,5 +1,6 @@
 // tumbled: the tumble simulation server. Flags -> config -> run.
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "net/asio.h"
 #include "net/server.h"
+#include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 
@@ -47,7 +49,13 @@ int main(int argc, char** argv) {
   app.add_option("--listen", listen, "Address to listen on, HOST:PORT (port 0 picks a free one)")
       ->capture_default_str();
   app.add_option("--scene", scene_path, "Scene file (JSON) to load; an empty world without one");
-  app.add_option("--tick-rate", tick_rate, "Simulation steps per second")->capture_default_str();
+  app.add_option("--tick-rate", tick_rate, "Simulation steps per second, 1 to 10000")
+      ->capture_default_str()
+      ->check(CLI::Range(tumble::sim::kMinTickRateHz, tumble::sim::kMaxTickRateHz));
+  std::uint32_t max_bodies = tumble::sim::SimConfig{}.max_bodies;
+  app.add_option("--max-bodies", max_bodies, "Most bodies the world may hold; SpawnBody beyond it is refused")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{10000000}));
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error or off")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
@@ -55,6 +63,38 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 30));
   app.add_option("--port-file", port_file, "Write the bound port to this file once listening");
+
+  // Shared-server safety: limits on each client and access tokens.
+  std::size_t max_connections = 1024;
+  std::uint32_t max_commands_per_second = 1000;
+  double handshake_timeout = 10;
+  double max_undelivered_seconds = 10;
+  std::size_t max_pending_bytes = tumble::net::SessionLimits{}.max_pending_bytes;
+  tumble::net::AccessTokens tokens;
+  app.add_option("--max-connections", max_connections, "Clients served at once; more are refused")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+  app.add_option("--max-commands-per-second", max_commands_per_second,
+                 "Requests per second a client may send (in bursts of as many); the excess gets RATE_LIMITED")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{1000000000}));
+  app.add_option("--handshake-timeout", handshake_timeout, "Seconds a new connection has to send Hello")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0));
+  app.add_option("--max-undelivered-seconds", max_undelivered_seconds,
+                 "Seconds a reply or frame may wait for a client that does not read before it is disconnected")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0));
+  app.add_option("--max-pending-bytes", max_pending_bytes,
+                 "Bytes of unsent replies a client may leave unread before it is disconnected")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 34));
+  app.add_option("--token", tokens.controller,
+                 "Token that makes a client a controller; prefer $TUMBLE_TOKEN (command lines are visible)")
+      ->envname("TUMBLE_TOKEN");
+  app.add_option("--observer-token", tokens.observer,
+                 "Token that makes a client an observer (reads only); or $TUMBLE_OBSERVER_TOKEN")
+      ->envname("TUMBLE_OBSERVER_TOKEN");
   app.set_version_flag("--version", kVersion);
   CLI11_PARSE(app, argc, argv);
 
@@ -68,6 +108,16 @@ int main(int argc, char** argv) {
     log->error("--listen: '{}' is not HOST:PORT", listen);
     return 2;
   }
+  if (!tokens.controller.empty() && tokens.controller == tokens.observer) {
+    log->error("--token and --observer-token must differ: a client's role is told by its token");
+    return 2;
+  }
+  if (!tokens.required()) {
+    log->warn("no --token or --observer-token (nor TUMBLE_TOKEN, TUMBLE_OBSERVER_TOKEN): "
+              "every client that connects may control the world");
+  } else if (tokens.controller.empty()) {
+    log->info("only an observer token is set: clients may watch the world but none may control it");
+  }
 
   tumble::v1::Scene scene;
   if (scene_path.empty()) {
@@ -80,6 +130,7 @@ int main(int argc, char** argv) {
 
   tumble::sim::SimConfig sim_config;
   sim_config.tick_rate_hz = tick_rate;
+  sim_config.max_bodies = max_bodies;
   std::unique_ptr<tumble::sim::Simulation> sim;
   if (auto status = tumble::sim::Simulation::create(scene, sim_config, &sim); !status.ok()) {
     log->error("invalid scene {}: {}", scene_path, status.message());
@@ -93,6 +144,15 @@ int main(int argc, char** argv) {
   server_config.host = host;
   server_config.port = port;
   server_config.limits.max_frame_bytes = max_frame_bytes;
+  server_config.limits.max_pending_bytes = max_pending_bytes;
+  server_config.limits.commands_per_second = max_commands_per_second;
+  server_config.limits.command_burst = max_commands_per_second;
+  server_config.limits.handshake_timeout = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(handshake_timeout));
+  server_config.limits.max_undelivered = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(max_undelivered_seconds));
+  server_config.max_connections = max_connections;
+  server_config.access = tokens;
   server_config.server_version = kVersion;
   tumble::net::Server server(io, *sim, server_config);
   if (auto status = server.start(); !status.ok()) {

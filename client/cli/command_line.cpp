@@ -42,8 +42,47 @@ client::Timeout timeout_from_seconds(double seconds) {
   return std::chrono::duration_cast<client::Timeout>(std::chrono::duration<double>(seconds));
 }
 
+// A name for a new body: anything but digits only, which every command
+// would read as an id.
+std::string check_new_name(const std::string& text) {
+  const bool digits_only = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  return digits_only ? "a body name of digits only would read as an id, got '" + text + "'" : std::string();
+}
+
 // A body reference that check_body accepted.
 tumble::v1::BodyRef body_ref(const std::string& text) { return client::parse_body_ref(text).value(); }
+
+// The value of an option that may be left out.
+template <typename T>
+std::optional<T> given(const CLI::Option* option, const T& value) {
+  return option->count() > 0 ? std::optional<T>(value) : std::nullopt;
+}
+
+// Options of `set` and `spawn` that give a body's state.
+struct StateArguments {
+  Vector3 position{};
+  Quaternion orientation{};
+  Vector3 linear_velocity{};
+  Vector3 angular_velocity{};
+  CLI::Option* position_option = nullptr;
+  CLI::Option* orientation_option = nullptr;
+  CLI::Option* linear_velocity_option = nullptr;
+  CLI::Option* angular_velocity_option = nullptr;
+
+  // `position_flag` is --position for `set`, --at for `spawn`.
+  void add(CLI::App& command, const std::string& position_flag) {
+    position_option = command.add_option(position_flag, position, "Position of the centre of mass (m), world frame")
+                          ->type_name("X Y Z");
+    orientation_option =
+        command.add_option("--orientation", orientation, "Orientation, a unit quaternion body to world")
+            ->type_name("W X Y Z");
+    linear_velocity_option =
+        command.add_option("--velocity", linear_velocity, "Linear velocity (m/s), world frame")->type_name("VX VY VZ");
+    angular_velocity_option = command.add_option("--angular-velocity", angular_velocity,
+                                                 "Angular velocity (rad/s), world frame")
+                                  ->type_name("WX WY WZ");
+  }
+};
 
 // The options a force, torque or impulse subcommand shares. Each add_*
 // declares some of them; point() and duration() need theirs declared.
@@ -54,6 +93,7 @@ struct BodyArguments {
   bool local = false;
   double seconds = 0;
   std::uint32_t ticks = 0;
+  bool persistent = false;
   CLI::Option* at_option = nullptr;
   CLI::Option* seconds_option = nullptr;
   CLI::Option* ticks_option = nullptr;
@@ -77,6 +117,9 @@ struct BodyArguments {
                          ->type_name("S");
     ticks_option = command.add_option("--ticks", ticks, "Ticks to apply for")->type_name("N");
     seconds_option->excludes(ticks_option);
+    command.add_flag("--persistent", persistent, "Apply at every tick until `tumble clear`")
+        ->excludes(seconds_option)
+        ->excludes(ticks_option);
   }
 
   std::optional<Vector3> point() const { return at_option->count() > 0 ? std::optional(at) : std::nullopt; }
@@ -146,6 +189,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   std::vector<std::string> subscribe_bodies;
   double rate_hz = 30;
   std::uint64_t count = 0;
+  std::string fields = "all";
+  bool events = false;
   subscribe
       ->add_option("--bodies", subscribe_bodies, "Bodies to follow, names or ids, comma-separated; all when absent")
       ->delimiter(',')
@@ -156,6 +201,85 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
       ->type_name("HZ");
   CLI::Option* count_option =
       subscribe->add_option("--count", count, "Exit after this many frames; run until interrupted when absent")
+          ->type_name("N")
+          ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
+  subscribe->add_option("--fields", fields, "pose: positions and orientations; all: velocities too")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"pose", "all"}));
+  subscribe->add_flag("--events", events, "Also print bodies spawned, removed, falling asleep, waking, and resets");
+
+  CLI::App* spawn = app.add_subcommand("spawn", "Add a body to the world");
+  std::string spawn_name;
+  Vector3 box{};
+  double sphere = 0;
+  std::array<double, 2> capsule{};
+  double mass = 1;
+  bool is_static = false;
+  bool is_kinematic = false;
+  double friction = 0;
+  double restitution = 0;
+  StateArguments spawn_state;
+  spawn->add_option("NAME", spawn_name, "Name of the new body; unique; \"\" for none")
+      ->required()
+      ->check(check_new_name);
+  auto* shape = spawn->add_option_group("shape", "What the body is");
+  CLI::Option* box_option =
+      shape->add_option("--box", box, "Solid box of these half extents (m)")->type_name("HX HY HZ");
+  CLI::Option* sphere_option = shape->add_option("--sphere", sphere, "Solid sphere of this radius (m)")->type_name("R");
+  CLI::Option* capsule_option =
+      shape->add_option("--capsule", capsule, "Capsule of radius R around a segment of half length HH (m) along y")
+          ->type_name("R HH");
+  shape->require_option(1);
+  spawn->add_option("--mass", mass, "Mass (kg) of a dynamic body")->capture_default_str()->type_name("M");
+  spawn_state.add(*spawn, "--at");
+  CLI::Option* static_option = spawn->add_flag("--static", is_static, "Never moves");
+  spawn->add_flag("--kinematic", is_kinematic, "Moves with its velocities, pushes others, ignores forces")
+      ->excludes(static_option);
+  CLI::Option* friction_option =
+      spawn->add_option("--friction", friction, "Coulomb friction coefficient, >= 0")->type_name("F");
+  CLI::Option* restitution_option =
+      spawn->add_option("--restitution", restitution, "Bounciness, 0 (none) to 1 (elastic)")->type_name("E");
+
+  CLI::App* remove = app.add_subcommand("remove", "Take a body out of the world");
+  std::string remove_body;
+  remove->add_option("BODY", remove_body, "Body name, or id when all digits")->required()->check(check_body);
+
+  CLI::App* set = app.add_subcommand("set", "Overwrite parts of a body's state and wake it; the rest stays");
+  std::string set_body;
+  StateArguments set_state;
+  set->add_option("BODY", set_body, "Body name, or id when all digits")->required()->check(check_body);
+  set_state.add(*set, "--position");
+
+  CLI::App* clear = app.add_subcommand("clear", "End the forces and torques of a body, or of every body");
+  std::string clear_body;
+  CLI::Option* clear_body_option =
+      clear->add_option("BODY", clear_body, "Body name, or id when all digits; every body when absent")
+          ->check(check_body);
+
+  CLI::App* pause = app.add_subcommand("pause", "Stop stepping; commands and subscriptions go on");
+  CLI::App* resume = app.add_subcommand("resume", "Step at the tick rate again");
+  CLI::App* step = app.add_subcommand("step", "While paused, step N ticks (default 1) and print the last");
+  std::uint32_t step_ticks = 1;
+  step->add_option("N", step_ticks, "Ticks to step")->capture_default_str();
+  CLI::App* reset = app.add_subcommand("reset", "Put the world back to the scene it was loaded from");
+  CLI::App* tick_rate = app.add_subcommand("tick-rate", "Change the simulation's steps per second");
+  double tick_rate_hz = 0;
+  tick_rate->add_option("HZ", tick_rate_hz, "Steps per second, 1 to 10000")->required();
+  CLI::App* stats = app.add_subcommand("stats", "Show the server's tick, load, bodies and clients");
+
+  CLI::App* watch = app.add_subcommand("watch", "A live table of the bodies: name, position, speed, asleep");
+  std::vector<std::string> watch_bodies;
+  double watch_rate_hz = 10;
+  std::uint64_t watch_count = 0;
+  watch->add_option("--bodies", watch_bodies, "Bodies to show, names or ids, comma-separated; all when absent")
+      ->delimiter(',')
+      ->type_name("A,B,...")
+      ->check(check_body);
+  watch->add_option("--rate", watch_rate_hz, "Tables per second; 0 for every tick")
+      ->capture_default_str()
+      ->type_name("HZ");
+  CLI::Option* watch_count_option =
+      watch->add_option("--count", watch_count, "Exit after this many tables; run until interrupted when absent")
           ->type_name("N")
           ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
 
@@ -190,12 +314,14 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     command.at = force_args.point();
     command.local = force_args.local;
     command.duration = force_args.duration();
+    command.persistent = force_args.persistent;
     invocation.command = std::move(command);
   } else if (app.got_subcommand(torque)) {
     TorqueCommand command;
     command.body = body_ref(torque_args.body);
     command.torque = torque_args.vector;
     command.duration = torque_args.duration();
+    command.persistent = torque_args.persistent;
     invocation.command = std::move(command);
   } else if (app.got_subcommand(impulse)) {
     ImpulseCommand command;
@@ -204,11 +330,70 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     command.at = impulse_args.point();
     command.local = impulse_args.local;
     invocation.command = std::move(command);
-  } else {
+  } else if (app.got_subcommand(subscribe)) {
     SubscribeCommand command;
     for (const std::string& name : subscribe_bodies) command.bodies.push_back(body_ref(name));
     command.rate_hz = rate_hz;
     if (count_option->count() > 0) command.count = count;
+    command.poses_only = fields == "pose";
+    command.events = events;
+    invocation.command = std::move(command);
+  } else if (app.got_subcommand(spawn)) {
+    SpawnCommand command;
+    command.name = spawn_name;
+    if (box_option->count() > 0) {
+      auto* half_extents = command.shape.mutable_box()->mutable_half_extents();
+      half_extents->set_x(box[0]);
+      half_extents->set_y(box[1]);
+      half_extents->set_z(box[2]);
+    } else if (sphere_option->count() > 0) {
+      command.shape.mutable_sphere()->set_radius(sphere);
+    } else if (capsule_option->count() > 0) {
+      command.shape.mutable_capsule()->set_radius(capsule[0]);
+      command.shape.mutable_capsule()->set_half_height(capsule[1]);
+    }
+    command.mass = mass;
+    command.position = spawn_state.position;
+    command.orientation = given(spawn_state.orientation_option, spawn_state.orientation);
+    command.linear_velocity = spawn_state.linear_velocity;
+    command.angular_velocity = spawn_state.angular_velocity;
+    command.motion = is_static      ? tumble::v1::MOTION_STATIC
+                     : is_kinematic ? tumble::v1::MOTION_KINEMATIC
+                                    : tumble::v1::MOTION_DYNAMIC;
+    command.friction = given(friction_option, friction);
+    command.restitution = given(restitution_option, restitution);
+    invocation.command = std::move(command);
+  } else if (app.got_subcommand(remove)) {
+    invocation.command = RemoveCommand{body_ref(remove_body)};
+  } else if (app.got_subcommand(set)) {
+    SetCommand command;
+    command.body = body_ref(set_body);
+    command.position = given(set_state.position_option, set_state.position);
+    command.orientation = given(set_state.orientation_option, set_state.orientation);
+    command.linear_velocity = given(set_state.linear_velocity_option, set_state.linear_velocity);
+    command.angular_velocity = given(set_state.angular_velocity_option, set_state.angular_velocity);
+    invocation.command = std::move(command);
+  } else if (app.got_subcommand(clear)) {
+    ClearCommand command;
+    if (clear_body_option->count() > 0) command.body = body_ref(clear_body);
+    invocation.command = std::move(command);
+  } else if (app.got_subcommand(pause)) {
+    invocation.command = PauseCommand{};
+  } else if (app.got_subcommand(resume)) {
+    invocation.command = ResumeCommand{};
+  } else if (app.got_subcommand(step)) {
+    invocation.command = StepCommand{step_ticks};
+  } else if (app.got_subcommand(reset)) {
+    invocation.command = ResetCommand{};
+  } else if (app.got_subcommand(tick_rate)) {
+    invocation.command = TickRateCommand{tick_rate_hz};
+  } else if (app.got_subcommand(stats)) {
+    invocation.command = StatsCommand{};
+  } else {
+    WatchCommand command;
+    for (const std::string& name : watch_bodies) command.bodies.push_back(body_ref(name));
+    command.rate_hz = watch_rate_hz;
+    if (watch_count_option->count() > 0) command.count = watch_count;
     invocation.command = std::move(command);
   }
   parsed.invocation = std::move(invocation);

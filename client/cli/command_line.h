@@ -2,10 +2,20 @@
 //
 //   tumble [--server HOST:PORT] [--json] [--token TOKEN] [--timeout SECONDS] COMMAND ...
 //     bodies
-//     force BODY --force FX FY FZ [--at PX PY PZ [--local]] [--duration S | --ticks N]
-//     torque BODY --torque TX TY TZ [--duration S | --ticks N]
+//     force BODY --force FX FY FZ [--at PX PY PZ [--local]] [--duration S | --ticks N | --persistent]
+//     torque BODY --torque TX TY TZ [--duration S | --ticks N | --persistent]
 //     impulse BODY --impulse JX JY JZ [--at PX PY PZ [--local]]
-//     subscribe [--bodies A,B,...] [--rate HZ] [--count N]
+//     subscribe [--bodies A,B,...] [--rate HZ] [--count N] [--fields pose|all] [--events]
+//     spawn NAME (--box HX HY HZ | --sphere R | --capsule R HH) [--mass M] [--at X Y Z]
+//           [--orientation W X Y Z] [--velocity VX VY VZ] [--angular-velocity WX WY WZ]
+//           [--static | --kinematic] [--friction F] [--restitution E]
+//     remove BODY
+//     set BODY [--position X Y Z] [--orientation W X Y Z] [--velocity VX VY VZ] [--angular-velocity WX WY WZ]
+//     clear [BODY]
+//     pause | resume | reset | stats
+//     step [N]
+//     tick-rate HZ
+//     watch [--bodies A,B,...] [--rate HZ] [--count N]
 //
 // Numbers that parse as floating point pass through unchecked, NaN and
 // infinities included: judging them is the server's job.
@@ -35,6 +45,9 @@ struct GlobalOptions {
 // x, y, z as typed.
 using Vector3 = std::array<double, 3>;
 
+// w, x, y, z as typed.
+using Quaternion = std::array<double, 4>;
+
 // How long a force or torque lasts; with neither set, one tick.
 struct Duration {
   std::optional<double> seconds;       // --duration
@@ -51,6 +64,7 @@ struct ForceCommand {
   std::optional<Vector3> at;  // m; world frame, or body frame when `local`
   bool local = false;       // only with `at`
   Duration duration;
+  bool persistent = false;  // every tick until cleared; never with a duration
 };
 
 // tumble torque
@@ -58,6 +72,7 @@ struct TorqueCommand {
   tumble::v1::BodyRef body;
   Vector3 torque{};  // N m, world frame
   Duration duration;
+  bool persistent = false;  // every tick until cleared; never with a duration
 };
 
 // tumble impulse
@@ -73,9 +88,75 @@ struct SubscribeCommand {
   std::vector<tumble::v1::BodyRef> bodies;  // empty: every body
   double rate_hz = 30;                      // 0: every tick
   std::optional<std::uint64_t> count;       // stop after this many frames; none: until interrupted
+  bool poses_only = false;                  // --fields pose: no velocities
+  bool events = false;                      // --events: every kind of WorldEvent too
 };
 
-using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand>;
+// tumble spawn
+struct SpawnCommand {
+  std::string name;                          // may be empty; never digits only (it would read as an id)
+  tumble::v1::Shape shape;                   // box, sphere or capsule
+  double mass = 1;                           // kg; ignored by the server unless dynamic
+  Vector3 position{};                        // m, centre of mass, world frame (--at)
+  std::optional<Quaternion> orientation;     // identity when absent
+  Vector3 linear_velocity{};                 // m/s, world frame
+  Vector3 angular_velocity{};                // rad/s, world frame
+  tumble::v1::Motion motion = tumble::v1::MOTION_DYNAMIC;
+  std::optional<double> friction;            // the server's default when absent
+  std::optional<double> restitution;         // the server's default when absent
+};
+
+// tumble remove
+struct RemoveCommand {
+  tumble::v1::BodyRef body;
+};
+
+// tumble set: the parts given replace the body's; the others stay.
+struct SetCommand {
+  tumble::v1::BodyRef body;
+  std::optional<Vector3> position;          // m
+  std::optional<Quaternion> orientation;
+  std::optional<Vector3> linear_velocity;   // m/s
+  std::optional<Vector3> angular_velocity;  // rad/s
+};
+
+// tumble clear
+struct ClearCommand {
+  std::optional<tumble::v1::BodyRef> body;  // none: every body
+};
+
+// tumble pause
+struct PauseCommand {};
+
+// tumble resume
+struct ResumeCommand {};
+
+// tumble step
+struct StepCommand {
+  std::uint32_t ticks = 1;
+};
+
+// tumble reset
+struct ResetCommand {};
+
+// tumble tick-rate
+struct TickRateCommand {
+  double rate_hz = 0;
+};
+
+// tumble stats
+struct StatsCommand {};
+
+// tumble watch
+struct WatchCommand {
+  std::vector<tumble::v1::BodyRef> bodies;  // empty: every body
+  double rate_hz = 10;                      // tables per second; 0: every tick
+  std::optional<std::uint64_t> count;       // stop after this many tables; none: until interrupted
+};
+
+using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand,
+                             SpawnCommand, RemoveCommand, SetCommand, ClearCommand, PauseCommand, ResumeCommand,
+                             StepCommand, ResetCommand, TickRateCommand, StatsCommand, WatchCommand>;
 
 // A command to run and the options to run it with.
 struct Invocation {

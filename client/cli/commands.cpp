@@ -1,6 +1,7 @@
 #include "commands.h"
 
 #include <chrono>
+#include <functional>
 #include <string>
 #include <variant>
 
@@ -9,6 +10,7 @@
 #include "requests.h"
 #include "tumble_client/connection.h"
 #include "tumble_client/pose_sample.h"
+#include "watch_state.h"
 
 namespace tumble::cli {
 namespace {
@@ -16,26 +18,68 @@ namespace {
 // How often a subscription that waits for frames looks for an interrupt.
 constexpr auto kInterruptPollInterval = std::chrono::milliseconds(100);
 
+// ANSI: cursor home, then clear the screen; `watch` draws each table after it.
+constexpr const char* kClearScreen = "\x1b[H\x1b[2J";
+
 client::Result<client::Connection> open(const GlobalOptions& global) {
   return client::Connection::connect(global.server, kClientName, global.token, global.timeout);
 }
 
 void emit(std::ostream& out, const std::string& text) { out << text << std::flush; }
 
+// Prints an Ack as JSON, or as `format` words it for people.
 std::optional<client::Failure> print_ack(const GlobalOptions& global, const client::Result<tumble::v1::Ack>& ack,
-                                         std::ostream& out) {
+                                         std::ostream& out,
+                                         std::string (*format)(const tumble::v1::Ack&) = format_ack) {
   if (!ack) return ack.failure();
-  emit(out, global.json ? json_line(ack_json(*ack)) : format_ack(*ack));
+  emit(out, global.json ? json_line(ack_json(*ack)) : format(*ack));
+  return std::nullopt;
+}
+
+// What a subscription's loop does with one of its frames or events; a
+// failure ends the loop.
+struct StreamHandlers {
+  std::function<std::optional<client::Failure>(const client::PoseSample&)> frame;
+  std::function<void(const tumble::v1::WorldEvent&)> event;
+};
+
+// Reads the messages of `subscription` until `count` frames were handled
+// or an interrupt: the shared loop of subscribe and watch.
+std::optional<client::Failure> follow(client::Connection& connection, std::uint32_t subscription,
+                                      std::optional<std::uint64_t> count, const StreamHandlers& handlers) {
+  catch_interrupts();
+  std::uint64_t shown = 0;
+  while (!count || shown < *count) {
+    if (interrupted()) break;
+    auto message = connection.next_message(kInterruptPollInterval);
+    if (!message) {
+      if (message.failure().kind == client::FailureKind::timeout) continue;
+      return message.failure();
+    }
+    if (message->has_error()) return client::server_failure(message->error());
+    if (message->has_world_event()) {
+      if (message->world_event().subscription_id() == subscription && handlers.event) {
+        handlers.event(message->world_event());
+      }
+      continue;
+    }
+    if (message->pose_frame().subscription_id() != subscription) continue;
+    auto sample = client::unpack_pose_frame(message->pose_frame());
+    if (!sample) return sample.failure();
+    if (auto failure = handlers.frame(*sample)) return failure;
+    ++shown;
+  }
   return std::nullopt;
 }
 
 }  // namespace
 
-std::optional<client::Failure> run(const Invocation& invocation, std::ostream& out) {
+std::optional<client::Failure> run(const Invocation& invocation, std::ostream& out, bool out_is_terminal) {
   const GlobalOptions& global = invocation.global;
   struct Dispatch {
     const GlobalOptions& global;
     std::ostream& out;
+    bool out_is_terminal;
     std::optional<client::Failure> operator()(const BodiesCommand&) const { return run_bodies(global, out); }
     std::optional<client::Failure> operator()(const ForceCommand& c) const { return run_force(global, c, out); }
     std::optional<client::Failure> operator()(const TorqueCommand& c) const { return run_torque(global, c, out); }
@@ -43,8 +87,23 @@ std::optional<client::Failure> run(const Invocation& invocation, std::ostream& o
     std::optional<client::Failure> operator()(const SubscribeCommand& c) const {
       return run_subscribe(global, c, out);
     }
+    std::optional<client::Failure> operator()(const SpawnCommand& c) const { return run_spawn(global, c, out); }
+    std::optional<client::Failure> operator()(const RemoveCommand& c) const { return run_remove(global, c, out); }
+    std::optional<client::Failure> operator()(const SetCommand& c) const { return run_set(global, c, out); }
+    std::optional<client::Failure> operator()(const ClearCommand& c) const { return run_clear(global, c, out); }
+    std::optional<client::Failure> operator()(const PauseCommand&) const { return run_pause(global, out); }
+    std::optional<client::Failure> operator()(const ResumeCommand&) const { return run_resume(global, out); }
+    std::optional<client::Failure> operator()(const StepCommand& c) const { return run_step(global, c, out); }
+    std::optional<client::Failure> operator()(const ResetCommand&) const { return run_reset(global, out); }
+    std::optional<client::Failure> operator()(const TickRateCommand& c) const {
+      return run_tick_rate(global, c, out);
+    }
+    std::optional<client::Failure> operator()(const StatsCommand&) const { return run_stats(global, out); }
+    std::optional<client::Failure> operator()(const WatchCommand& c) const {
+      return run_watch(global, c, out, out_is_terminal);
+    }
   };
-  return std::visit(Dispatch{global, out}, invocation.command);
+  return std::visit(Dispatch{global, out, out_is_terminal}, invocation.command);
 }
 
 std::optional<client::Failure> run_bodies(const GlobalOptions& global, std::ostream& out) {
@@ -85,25 +144,111 @@ std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const 
   const BodyNames names = body_names(*list);
   auto subscribed = connection->subscribe(make_subscribe(command), global.timeout);
   if (!subscribed) return subscribed.failure();
-  const std::uint32_t subscription = subscribed->subscription_id();
 
-  catch_interrupts();
-  std::uint64_t shown = 0;
-  while (!command.count || shown < *command.count) {
-    if (interrupted()) break;
-    auto message = connection->next_message(kInterruptPollInterval);
-    if (!message) {
-      if (message.failure().kind == client::FailureKind::timeout) continue;
-      return message.failure();
-    }
-    if (message->has_error()) return client::server_failure(message->error());
-    if (message->pose_frame().subscription_id() != subscription) continue;
-    auto sample = client::unpack_pose_frame(message->pose_frame());
-    if (!sample) return sample.failure();
-    emit(out, global.json ? json_line(pose_sample_json(*sample, names)) : format_pose_sample(*sample, names));
-    ++shown;
-  }
+  StreamHandlers handlers;
+  handlers.frame = [&](const client::PoseSample& sample) -> std::optional<client::Failure> {
+    emit(out, global.json ? json_line(pose_sample_json(sample, names)) : format_pose_sample(sample, names));
+    return std::nullopt;
+  };
+  handlers.event = [&](const tumble::v1::WorldEvent& event) {
+    emit(out, global.json ? json_line(world_event_json(event)) : format_world_event(event));
+  };
+  return follow(*connection, subscribed->subscription_id(), command.count, handlers);
+}
+
+std::optional<client::Failure> run_spawn(const GlobalOptions& global, const SpawnCommand& command, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->spawn_body(make_body_spec(command), global.timeout), out, format_spawned);
+}
+
+std::optional<client::Failure> run_remove(const GlobalOptions& global, const RemoveCommand& command,
+                                          std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->remove_body(command.body, global.timeout), out);
+}
+
+std::optional<client::Failure> run_set(const GlobalOptions& global, const SetCommand& command, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->set_body_state(make_set_body_state(command), global.timeout), out);
+}
+
+std::optional<client::Failure> run_clear(const GlobalOptions& global, const ClearCommand& command, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->clear_forces(make_clear_forces(command), global.timeout), out);
+}
+
+std::optional<client::Failure> run_pause(const GlobalOptions& global, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->pause(global.timeout), out, format_paused);
+}
+
+std::optional<client::Failure> run_resume(const GlobalOptions& global, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->resume(global.timeout), out);
+}
+
+std::optional<client::Failure> run_step(const GlobalOptions& global, const StepCommand& command, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->step(command.ticks, global.timeout), out, format_stepped);
+}
+
+std::optional<client::Failure> run_reset(const GlobalOptions& global, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->reset(global.timeout), out);
+}
+
+std::optional<client::Failure> run_tick_rate(const GlobalOptions& global, const TickRateCommand& command,
+                                             std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  return print_ack(global, connection->set_tick_rate(command.rate_hz, global.timeout), out);
+}
+
+std::optional<client::Failure> run_stats(const GlobalOptions& global, std::ostream& out) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  auto stats = connection->get_stats(global.timeout);
+  if (!stats) return stats.failure();
+  emit(out, global.json ? json_line(stats_json(*stats)) : format_stats(*stats));
   return std::nullopt;
+}
+
+std::optional<client::Failure> run_watch(const GlobalOptions& global, const WatchCommand& command, std::ostream& out,
+                                         bool out_is_terminal) {
+  auto connection = open(global);
+  if (!connection) return connection.failure();
+  // Subscribe first, then list: every event after the list's tick is queued
+  // by the time the list arrives, and applying the older ones again is harmless.
+  auto subscribed = connection->subscribe(make_watch_subscribe(command), global.timeout);
+  if (!subscribed) return subscribed.failure();
+  auto list = connection->list_bodies(global.timeout);
+  if (!list) return list.failure();
+  WatchState state;
+  state.load(*list);
+
+  bool first = true;
+  StreamHandlers handlers;
+  handlers.event = [&](const tumble::v1::WorldEvent& event) { state.apply(event); };
+  handlers.frame = [&](const client::PoseSample& sample) -> std::optional<client::Failure> {
+    if (global.json) {
+      emit(out, json_line(watch_json(sample, state)));
+    } else if (out_is_terminal) {
+      emit(out, kClearScreen + format_watch_table(sample, state));
+    } else {
+      emit(out, (first ? "" : "\n") + format_watch_table(sample, state));
+    }
+    first = false;
+    return std::nullopt;
+  };
+  return follow(*connection, subscribed->subscription_id(), command.count, handlers);
 }
 
 }  // namespace tumble::cli

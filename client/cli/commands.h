@@ -15,8 +15,9 @@ namespace tumble::cli {
 // The name this client gives in Hello.
 inline constexpr const char* kClientName = "tumble-cli";
 
-// Runs whichever command `invocation` holds.
-std::optional<client::Failure> run(const Invocation& invocation, std::ostream& out);
+// Runs whichever command `invocation` holds. `out_is_terminal`: `out` is a
+// terminal, where `watch` redraws its table in place.
+std::optional<client::Failure> run(const Invocation& invocation, std::ostream& out, bool out_is_terminal = false);
 
 // tumble bodies: lists every body.
 std::optional<client::Failure> run_bodies(const GlobalOptions& global, std::ostream& out);
@@ -33,11 +34,42 @@ std::optional<client::Failure> run_impulse(const GlobalOptions& global, const Im
                                            std::ostream& out);
 
 // tumble subscribe: lists the bodies once (for their names), subscribes,
-// then prints each frame of its subscription as it arrives, flushed. Ends
-// with success after `count` frames or on SIGINT/SIGTERM (caught from the
-// moment the subscription stands); fails when the server sends an Error or
-// closes the connection.
+// then prints each frame (and, with --events, each event) of its
+// subscription as it arrives, flushed. Ends with success after `count`
+// frames or on SIGINT/SIGTERM (caught from the moment the subscription
+// stands); fails when the server sends an Error or closes the connection.
 std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const SubscribeCommand& command,
                                              std::ostream& out);
+
+// tumble spawn: one SpawnBody, prints the new body's id and the tick.
+std::optional<client::Failure> run_spawn(const GlobalOptions& global, const SpawnCommand& command, std::ostream& out);
+
+// tumble remove, set, clear, resume, reset, tick-rate: one request each,
+// printing the tick it takes effect.
+std::optional<client::Failure> run_remove(const GlobalOptions& global, const RemoveCommand& command,
+                                          std::ostream& out);
+std::optional<client::Failure> run_set(const GlobalOptions& global, const SetCommand& command, std::ostream& out);
+std::optional<client::Failure> run_clear(const GlobalOptions& global, const ClearCommand& command, std::ostream& out);
+std::optional<client::Failure> run_resume(const GlobalOptions& global, std::ostream& out);
+std::optional<client::Failure> run_reset(const GlobalOptions& global, std::ostream& out);
+std::optional<client::Failure> run_tick_rate(const GlobalOptions& global, const TickRateCommand& command,
+                                             std::ostream& out);
+
+// tumble pause: prints the tick the world stays at.
+std::optional<client::Failure> run_pause(const GlobalOptions& global, std::ostream& out);
+
+// tumble step: prints the last tick stepped once all are done.
+std::optional<client::Failure> run_step(const GlobalOptions& global, const StepCommand& command, std::ostream& out);
+
+// tumble stats: the server's counters, as labelled lines or one JSON object.
+std::optional<client::Failure> run_stats(const GlobalOptions& global, std::ostream& out);
+
+// tumble watch: subscribes to the bodies' poses and to the events that
+// change their names and sleep, lists the bodies, then draws a table per
+// frame: on a terminal in place (ANSI clear and home), otherwise tables
+// separated by blank lines; with --json one object per frame. Ends as
+// subscribe does, after `count` tables or on SIGINT/SIGTERM.
+std::optional<client::Failure> run_watch(const GlobalOptions& global, const WatchCommand& command, std::ostream& out,
+                                         bool out_is_terminal);
 
 }  // namespace tumble::cli

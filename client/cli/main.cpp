@@ -1,5 +1,7 @@
 // tumble: the command-line client of tumbled. Parse, run one subcommand,
 // turn the outcome into an exit status (see exit_code.h).
+#include <unistd.h>
+
 #include <exception>
 #include <iostream>
 
@@ -18,7 +20,7 @@ int main(int argc, char** argv) {
       }
       return parsed.exit_code;
     }
-    if (auto failure = tumble::cli::run(*parsed.invocation, std::cout)) {
+    if (auto failure = tumble::cli::run(*parsed.invocation, std::cout, ::isatty(STDOUT_FILENO) == 1)) {
       std::cerr << "tumble: " << failure->message << std::endl;
       return tumble::cli::kExitFailure;
     }

@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 namespace tumble::cli {
@@ -73,6 +74,36 @@ std::string pad_left(const std::string& text, std::size_t width) {
   return std::string(width - std::min(width, text.size()), ' ') + text;
 }
 
+// Rows of cells as lines, each column as wide as its widest cell and
+// aligned right or left, two spaces between columns, no trailing spaces.
+template <std::size_t Columns>
+std::string aligned_table(const std::vector<std::array<std::string, Columns>>& rows,
+                          const std::array<bool, Columns>& right_aligned) {
+  std::array<std::size_t, Columns> widths{};
+  for (const auto& row : rows) {
+    for (std::size_t c = 0; c < Columns; ++c) widths[c] = std::max(widths[c], row[c].size());
+  }
+  std::string out;
+  for (const auto& row : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < Columns; ++c) {
+      if (c > 0) line += "  ";
+      line += right_aligned[c] ? pad_left(row[c], widths[c]) : pad_right(row[c], widths[c]);
+    }
+    line.erase(line.find_last_not_of(' ') + 1);
+    out += line + "\n";
+  }
+  return out;
+}
+
+// |v| of a pose's linear velocity, m/s.
+double speed_of(const client::BodyPose& pose) {
+  const double x = static_cast<double>(pose.linear_velocity[0]);
+  const double y = static_cast<double>(pose.linear_velocity[1]);
+  const double z = static_cast<double>(pose.linear_velocity[2]);
+  return std::sqrt(x * x + y * y + z * z);
+}
+
 // Appends `value` on one line with a space after each ':' and ',', the
 // way the protocol's documentation writes JSON.
 void append_json(const Json& value, std::string& out) {
@@ -128,8 +159,93 @@ std::string format_ack(const tumble::v1::Ack& ack) {
 
 Json ack_json(const tumble::v1::Ack& ack) {
   Json out = Json::object();
+  if (ack.has_body_id()) out["body_id"] = ack.body_id();
   out["applied_tick"] = ack.applied_tick();
   out["request_id"] = ack.request_id();
+  return out;
+}
+
+std::string format_spawned(const tumble::v1::Ack& ack) {
+  return "spawned body " + std::to_string(ack.body_id()) + " at tick " + std::to_string(ack.applied_tick()) + "\n";
+}
+
+std::string format_paused(const tumble::v1::Ack& ack) {
+  return "paused at tick " + std::to_string(ack.applied_tick()) + "\n";
+}
+
+std::string format_stepped(const tumble::v1::Ack& ack) {
+  return "stepped to tick " + std::to_string(ack.applied_tick()) + "\n";
+}
+
+std::string format_stats(const tumble::v1::Stats& stats) {
+  const std::vector<std::pair<std::string, std::string>> rows = {
+      {"tick", std::to_string(stats.tick())},
+      {"sim time", fixed(stats.sim_time(), 3) + " s"},
+      {"paused", stats.paused() ? "yes" : "no"},
+      {"tick rate", fixed(stats.tick_rate_hz(), 3) + " Hz"},
+      {"real-time factor", fixed(stats.real_time_factor(), 3)},
+      {"tick time p50", fixed(stats.tick_ms_p50(), 3) + " ms"},
+      {"tick time p99", fixed(stats.tick_ms_p99(), 3) + " ms"},
+      {"overruns", std::to_string(stats.overruns())},
+      {"bodies", std::to_string(stats.bodies()) + " (" + std::to_string(stats.bodies_awake()) + " awake, " +
+                     std::to_string(stats.bodies_asleep()) + " asleep)"},
+      {"clients", std::to_string(stats.clients())},
+      {"bytes sent", std::to_string(stats.bytes_sent())},
+  };
+  std::size_t width = 0;
+  for (const auto& row : rows) width = std::max(width, row.first.size());
+  std::string out;
+  for (const auto& [label, value] : rows) out += pad_right(label, width) + "  " + value + "\n";
+  return out;
+}
+
+Json stats_json(const tumble::v1::Stats& stats) {
+  Json out = Json::object();
+  out["tick"] = stats.tick();
+  out["sim_time"] = stats.sim_time();
+  out["paused"] = stats.paused();
+  out["tick_rate_hz"] = stats.tick_rate_hz();
+  out["real_time_factor"] = stats.real_time_factor();
+  out["tick_ms_p50"] = stats.tick_ms_p50();
+  out["tick_ms_p99"] = stats.tick_ms_p99();
+  out["overruns"] = stats.overruns();
+  out["bodies"] = stats.bodies();
+  out["bodies_awake"] = stats.bodies_awake();
+  out["bodies_asleep"] = stats.bodies_asleep();
+  out["clients"] = stats.clients();
+  out["bytes_sent"] = stats.bytes_sent();
+  return out;
+}
+
+std::string event_kind_name(tumble::v1::WorldEventKind kind) {
+  switch (kind) {
+    case tumble::v1::WORLD_EVENT_BODY_SPAWNED: return "spawned";
+    case tumble::v1::WORLD_EVENT_BODY_REMOVED: return "removed";
+    case tumble::v1::WORLD_EVENT_BODY_ASLEEP: return "asleep";
+    case tumble::v1::WORLD_EVENT_BODY_AWAKE: return "awake";
+    case tumble::v1::WORLD_EVENT_WORLD_RESET: return "reset";
+    default: break;
+  }
+  return "";
+}
+
+std::string format_world_event(const tumble::v1::WorldEvent& event) {
+  std::string out = "tick " + std::to_string(event.tick()) + "  " + event_kind_name(event.kind());
+  if (event.kind() != tumble::v1::WORLD_EVENT_WORLD_RESET) {
+    out += "  " + display_name(event.body_id(), event.body_name());
+    if (!event.body_name().empty()) out += " (#" + std::to_string(event.body_id()) + ")";
+  }
+  return out + "\n";
+}
+
+Json world_event_json(const tumble::v1::WorldEvent& event) {
+  Json out = Json::object();
+  out["event"] = event_kind_name(event.kind());
+  out["tick"] = event.tick();
+  if (event.kind() != tumble::v1::WORLD_EVENT_WORLD_RESET) {
+    out["id"] = event.body_id();
+    out["name"] = event.body_name();
+  }
   return out;
 }
 
@@ -150,21 +266,7 @@ std::string format_body_table(const tumble::v1::BodyList& list) {
                     fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3)});
   }
 
-  std::array<std::size_t, kColumns> widths{};
-  for (const Row& row : rows) {
-    for (std::size_t c = 0; c < kColumns; ++c) widths[c] = std::max(widths[c], row[c].size());
-  }
-  std::string out;
-  for (const Row& row : rows) {
-    std::string line;
-    for (std::size_t c = 0; c < kColumns; ++c) {
-      if (c > 0) line += "  ";
-      line += kRightAligned[c] ? pad_left(row[c], widths[c]) : pad_right(row[c], widths[c]);
-    }
-    line.erase(line.find_last_not_of(' ') + 1);
-    out += line + "\n";
-  }
-  return out;
+  return aligned_table(rows, kRightAligned);
 }
 
 Json body_list_json(const tumble::v1::BodyList& list) {
@@ -199,8 +301,11 @@ std::string format_pose_sample(const client::PoseSample& sample, const BodyNames
   for (std::size_t i = 0; i < sample.bodies.size(); ++i) {
     const client::BodyPose& pose = sample.bodies[i];
     out += "  " + pad_right(labels[i], width) + "  pos " + tuple(pose.position, 3, '(', ')') + "  quat " +
-           tuple(pose.orientation, 4, '[', ']') + "  v " + tuple(pose.linear_velocity, 3, '(', ')') + "  w " +
-           tuple(pose.angular_velocity, 3, '(', ')') + "\n";
+           tuple(pose.orientation, 4, '[', ']');
+    if (sample.has_velocities) {
+      out += "  v " + tuple(pose.linear_velocity, 3, '(', ')') + "  w " + tuple(pose.angular_velocity, 3, '(', ')');
+    }
+    out += "\n";
   }
   return out;
 }
@@ -213,8 +318,42 @@ Json pose_sample_json(const client::PoseSample& sample, const BodyNames& names) 
     entry["name"] = name_of(pose.id, names);
     entry["position"] = json_array(pose.position);
     entry["orientation"] = json_array(pose.orientation);
-    entry["linear_velocity"] = json_array(pose.linear_velocity);
-    entry["angular_velocity"] = json_array(pose.angular_velocity);
+    if (sample.has_velocities) {
+      entry["linear_velocity"] = json_array(pose.linear_velocity);
+      entry["angular_velocity"] = json_array(pose.angular_velocity);
+    }
+    bodies.push_back(std::move(entry));
+  }
+  Json out = Json::object();
+  out["tick"] = sample.tick;
+  out["time"] = sample.sim_time;
+  out["bodies"] = std::move(bodies);
+  return out;
+}
+
+std::string format_watch_table(const client::PoseSample& sample, const WatchState& state) {
+  constexpr std::size_t kColumns = 4;
+  using Row = std::array<std::string, kColumns>;
+  constexpr std::array<bool, kColumns> kRightAligned = {false, false, true, false};
+  std::vector<Row> rows;
+  rows.push_back({"NAME", "POSITION (m)", "SPEED (m/s)", "ASLEEP"});
+  for (const client::BodyPose& pose : sample.bodies) {
+    rows.push_back({display_name(pose.id, state.name(pose.id)), tuple(pose.position, 3, '(', ')'),
+                    fixed(speed_of(pose), 3), state.asleep(pose.id) ? "yes" : "no"});
+  }
+  return "tick " + std::to_string(sample.tick) + "  t=" + fixed(sample.sim_time, 3) + "s\n" +
+         aligned_table(rows, kRightAligned);
+}
+
+Json watch_json(const client::PoseSample& sample, const WatchState& state) {
+  Json bodies = Json::array();
+  for (const client::BodyPose& pose : sample.bodies) {
+    Json entry = Json::object();
+    entry["id"] = pose.id;
+    entry["name"] = state.name(pose.id);
+    entry["position"] = json_array(pose.position);
+    entry["speed"] = speed_of(pose);
+    entry["asleep"] = state.asleep(pose.id);
     bodies.push_back(std::move(entry));
   }
   Json out = Json::object();

@@ -16,6 +16,7 @@
 
 #include "tumble/v1/protocol.pb.h"
 #include "tumble_client/pose_sample.h"
+#include "watch_state.h"
 
 namespace tumble::cli {
 
@@ -34,8 +35,38 @@ std::string shape_name(const tumble::v1::Shape& shape);
 // "applied at tick 1234\n".
 std::string format_ack(const tumble::v1::Ack& ack);
 
-// {"applied_tick": N, "request_id": R}
+// {"applied_tick": N, "request_id": R}, with "body_id" first when the Ack
+// carries one (SpawnBody).
 Json ack_json(const tumble::v1::Ack& ack);
+
+// "spawned body 7 at tick 1234\n".
+std::string format_spawned(const tumble::v1::Ack& ack);
+
+// "paused at tick 1234\n".
+std::string format_paused(const tumble::v1::Ack& ack);
+
+// "stepped to tick 1234\n".
+std::string format_stepped(const tumble::v1::Ack& ack);
+
+// One "label  value" line per figure: tick, sim time, paused, tick rate,
+// real-time factor, tick time p50/p99 (ms), overruns, bodies (awake,
+// asleep), clients, bytes sent.
+std::string format_stats(const tumble::v1::Stats& stats);
+
+// {"tick", "sim_time", "paused", "tick_rate_hz", "real_time_factor",
+// "tick_ms_p50", "tick_ms_p99", "overruns", "bodies", "bodies_awake",
+// "bodies_asleep", "clients", "bytes_sent"}.
+Json stats_json(const tumble::v1::Stats& stats);
+
+// "spawned", "removed", "asleep", "awake" or "reset"; "" for an unknown kind.
+std::string event_kind_name(tumble::v1::WorldEventKind kind);
+
+// "tick 1234  spawned  crate (#7)\n", or "tick 1234  reset\n".
+std::string format_world_event(const tumble::v1::WorldEvent& event);
+
+// {"event": "spawned", "tick": N, "id": 7, "name": "crate"}; a reset has
+// only "event" and "tick".
+Json world_event_json(const tumble::v1::WorldEvent& event);
 
 // An aligned table, one header line and one line per body: id, name,
 // shape, mass (kg), position (m) and speed (m/s).
@@ -47,14 +78,24 @@ std::string format_body_table(const tumble::v1::BodyList& list);
 Json body_list_json(const tumble::v1::BodyList& list);
 
 // "tick 1234  t=5.142s\n", then one line per body:
-// "  crate  pos (x, y, z)  quat [w, x, y, z]  v (x, y, z)  w (x, y, z)\n".
-// Bodies without a known name show as #id.
+// "  crate  pos (x, y, z)  quat [w, x, y, z]  v (x, y, z)  w (x, y, z)\n"
+// (without v and w for a pose-only sample). Bodies without a known name
+// show as #id.
 std::string format_pose_sample(const client::PoseSample& sample, const BodyNames& names);
 
 // {"tick": N, "time": S, "bodies": [{"id", "name", "position",
 // "orientation", "linear_velocity", "angular_velocity"}, ...]}; "name" is ""
-// when unknown.
+// when unknown; no velocities for a pose-only sample.
 Json pose_sample_json(const client::PoseSample& sample, const BodyNames& names);
+
+// The table `tumble watch` draws: "tick 1234  t=5.142s\n", then a header
+// and one aligned line per body: name (#id when unnamed), position (m),
+// speed (m/s) and asleep (yes or no).
+std::string format_watch_table(const client::PoseSample& sample, const WatchState& state);
+
+// {"tick": N, "time": S, "bodies": [{"id", "name", "position", "speed",
+// "asleep"}, ...]}.
+Json watch_json(const client::PoseSample& sample, const WatchState& state);
 
 // `value` on one line followed by a newline, with a space after each ':'
 // and ',' ({"tick": 1, "bodies": [...]}); invalid UTF-8 in strings is

@@ -7,6 +7,26 @@
 #include "wire/frame.h"
 
 namespace tumble::net {
+namespace {
+
+tumble::v1::WorldEventKind wire_kind(sim::WorldEventKind kind) {
+  switch (kind) {
+    case sim::WorldEventKind::body_spawned: return tumble::v1::WORLD_EVENT_BODY_SPAWNED;
+    case sim::WorldEventKind::body_removed: return tumble::v1::WORLD_EVENT_BODY_REMOVED;
+    case sim::WorldEventKind::body_asleep: return tumble::v1::WORLD_EVENT_BODY_ASLEEP;
+    case sim::WorldEventKind::body_awake: return tumble::v1::WORLD_EVENT_BODY_AWAKE;
+    case sim::WorldEventKind::world_reset: return tumble::v1::WORLD_EVENT_WORLD_RESET;
+  }
+  return tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED;
+}
+
+std::uint32_t kind_bit(int kind) { return std::uint32_t{1} << static_cast<unsigned>(kind); }
+
+// The kinds that need the sim to scan the bodies after every step.
+constexpr std::uint32_t kSleepEventBits = (std::uint32_t{1} << tumble::v1::WORLD_EVENT_BODY_ASLEEP) |
+                                          (std::uint32_t{1} << tumble::v1::WORLD_EVENT_BODY_AWAKE);
+
+}  // namespace
 
 Publisher::Publisher(boost::asio::io_context& io, sim::Simulation& sim) : io_(io), sim_(sim) {}
 
@@ -14,9 +34,8 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
                                                                    const tumble::v1::Subscribe& request) {
   // Resolve the filter to ids now: a misspelt name is an error the client should hear about.
   std::vector<physics::BodyId> bodies;
-  const std::shared_ptr<const sim::BodyDirectory> directory = sim_.directory();
   for (const tumble::v1::BodyRef& ref : request.bodies()) {
-    const physics::BodyId id = directory->resolve(ref);
+    const physics::BodyId id = sim_.resolve(ref);
     if (id == physics::kInvalidBodyId) {
       return sim::RequestError{tumble::v1::UNKNOWN_BODY,
                                "no " + sim::BodyDirectory::describe(ref) + " in the world"};
@@ -26,6 +45,9 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   std::sort(bodies.begin(), bodies.end());
   bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
   const bool all_bodies = request.bodies_size() == 0;
+  const bool velocities = request.fields() != tumble::v1::POSE_FIELDS_POSE;
+  std::uint32_t event_kinds = 0;
+  for (const int kind : request.events()) event_kinds |= kind_bit(kind);
 
   // The period is a whole number of ticks, so the rate is rounded to a divisor of the tick rate.
   const double tick_rate = sim_.tick_rate_hz();
@@ -35,7 +57,8 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   }
 
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) {
-    return s.all_bodies == all_bodies && s.bodies == bodies && s.period_ticks == period;
+    return s.all_bodies == all_bodies && s.bodies == bodies && s.period_ticks == period &&
+           s.velocities == velocities && s.event_kinds == event_kinds;
   });
   if (it == streams_.end()) {
     Stream stream;
@@ -43,10 +66,12 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
     stream.all_bodies = all_bodies;
     stream.bodies = std::move(bodies);
     stream.period_ticks = period;
+    stream.velocities = velocities;
+    stream.event_kinds = event_kinds;
     stream.last_tick = sim_.tick();
     streams_.push_back(std::move(stream));
     it = std::prev(streams_.end());
-    update_periods();
+    update_sim_interest();
   }
   const bool already_member = std::any_of(it->members.begin(), it->members.end(),
                                           [&](const Member& m) { return m.key == session.get(); });
@@ -64,7 +89,7 @@ bool Publisher::unsubscribe(const Session& session, std::uint32_t stream_id) {
   std::erase_if(it->awaiting_first, is_session);
   if (it->members.empty()) {
     streams_.erase(it);
-    update_periods();
+    update_sim_interest();
   }
   return removed > 0;
 }
@@ -76,7 +101,7 @@ void Publisher::remove_session(const Session& session) {
     std::erase_if(stream.awaiting_first, is_session);
   }
   const std::size_t removed = std::erase_if(streams_, [](const Stream& s) { return s.members.empty(); });
-  if (removed > 0) update_periods();
+  if (removed > 0) update_sim_interest();
 }
 
 void Publisher::offer(std::shared_ptr<const sim::Snapshot> snapshot) {
@@ -87,23 +112,63 @@ void Publisher::offer(std::shared_ptr<const sim::Snapshot> snapshot) {
   boost::asio::post(io_, [this] { publish_latest(); });
 }
 
+void Publisher::offer_events(std::shared_ptr<const sim::WorldEvents> events) {
+  std::lock_guard lock(handoff_mutex_);
+  events_.push_back(std::move(events));
+  if (publish_posted_) return;  // the pending publish will take these too
+  publish_posted_ = true;
+  boost::asio::post(io_, [this] { publish_latest(); });
+}
+
 void Publisher::publish_latest() {
   std::shared_ptr<const sim::Snapshot> snapshot;
   {
     std::lock_guard lock(handoff_mutex_);
     snapshot = std::move(latest_);
+    delivering_.swap(events_);
     publish_posted_ = false;
   }
+  // Events first: they are as old as the snapshot or older.
+  for (const auto& batch : delivering_) {
+    for (const sim::WorldEvent& event : *batch) deliver(event);
+  }
+  delivering_.clear();
   if (snapshot) publish(*snapshot);
+}
+
+void Publisher::deliver(const sim::WorldEvent& event) {
+  const tumble::v1::WorldEventKind kind = wire_kind(event.kind);
+  for (Stream& stream : streams_) {
+    const bool names_body =
+        !stream.all_bodies && std::binary_search(stream.bodies.begin(), stream.bodies.end(), event.body);
+    const bool concerns_stream = stream.all_bodies || names_body || kind == tumble::v1::WORLD_EVENT_WORLD_RESET;
+    if (concerns_stream && (stream.event_kinds & kind_bit(kind)) != 0) {
+      tumble::v1::ServerMessage message;
+      auto& out = *message.mutable_world_event();
+      out.set_subscription_id(stream.id);
+      out.set_tick(event.tick);
+      out.set_kind(kind);
+      if (event.body != physics::kInvalidBodyId) out.set_body_id(event.body);
+      out.set_body_name(event.name);
+      for (const Member& member : stream.members) {
+        if (auto session = member.session.lock()) session->send(message);
+      }
+    }
+    if (names_body && kind == tumble::v1::WORLD_EVENT_BODY_REMOVED) {
+      stream.bodies.erase(std::lower_bound(stream.bodies.begin(), stream.bodies.end(), event.body));
+    }
+  }
 }
 
 void Publisher::publish(const sim::Snapshot& snapshot) {
   for (Stream& stream : streams_) {
     // Regular frames fall on multiples of the period; a frame whose
     // snapshot was superseded in the handoff is made up by the next one.
-    const bool regular = snapshot.tick > stream.last_tick &&
-                         (snapshot.tick % stream.period_ticks == 0 ||
-                          snapshot.tick - stream.last_tick > stream.period_ticks);
+    // An edit while paused is shown to every stream at once.
+    const bool regular = (snapshot.tick > stream.last_tick &&
+                          (snapshot.tick % stream.period_ticks == 0 ||
+                           snapshot.tick - stream.last_tick > stream.period_ticks)) ||
+                         (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
     if (!regular && stream.awaiting_first.empty()) continue;
     const std::shared_ptr<const std::string> bytes = encode(stream, snapshot);
     const std::vector<Member>& targets = regular ? stream.members : stream.awaiting_first;
@@ -125,28 +190,36 @@ std::shared_ptr<const std::string> Publisher::encode(const Stream& stream, const
   frame.mutable_ids()->Reserve(static_cast<int>(n));
   frame.mutable_positions()->Reserve(static_cast<int>(3 * n));
   frame.mutable_orientations()->Reserve(static_cast<int>(4 * n));
-  frame.mutable_linear_velocities()->Reserve(static_cast<int>(3 * n));
-  frame.mutable_angular_velocities()->Reserve(static_cast<int>(3 * n));
+  if (stream.velocities) {
+    frame.mutable_linear_velocities()->Reserve(static_cast<int>(3 * n));
+    frame.mutable_angular_velocities()->Reserve(static_cast<int>(3 * n));
+  }
   for (std::size_t i = 0; i < snapshot.body_count(); ++i) {
     const physics::BodyId id = snapshot.ids[i];
     if (!stream.all_bodies && !std::binary_search(stream.bodies.begin(), stream.bodies.end(), id)) continue;
     frame.add_ids(id);
+    for (std::size_t k = 0; k < 3; ++k) frame.add_positions(static_cast<float>(snapshot.positions[3 * i + k]));
+    for (std::size_t k = 0; k < 4; ++k) frame.add_orientations(static_cast<float>(snapshot.orientations[4 * i + k]));
+    if (!stream.velocities) continue;
     for (std::size_t k = 0; k < 3; ++k) {
-      frame.add_positions(static_cast<float>(snapshot.positions[3 * i + k]));
       frame.add_linear_velocities(static_cast<float>(snapshot.linear_velocities[3 * i + k]));
       frame.add_angular_velocities(static_cast<float>(snapshot.angular_velocities[3 * i + k]));
     }
-    for (std::size_t k = 0; k < 4; ++k) frame.add_orientations(static_cast<float>(snapshot.orientations[4 * i + k]));
   }
   return std::make_shared<const std::string>(wire::encode_frame(message));
 }
 
-void Publisher::update_periods() {
+void Publisher::update_sim_interest() {
   std::vector<std::uint32_t> periods;
-  for (const Stream& stream : streams_) periods.push_back(stream.period_ticks);
+  bool sleep_events = false;
+  for (const Stream& stream : streams_) {
+    periods.push_back(stream.period_ticks);
+    sleep_events = sleep_events || (stream.event_kinds & kSleepEventBits) != 0;
+  }
   std::sort(periods.begin(), periods.end());
   periods.erase(std::unique(periods.begin(), periods.end()), periods.end());
   sim_.set_publish_periods(std::move(periods));
+  sim_.set_sleep_events_wanted(sleep_events);
 }
 
 }  // namespace tumble::net

@@ -1,14 +1,22 @@
-// Fans snapshots out to subscribers. Subscriptions that ask for the same
-// thing (the same bodies at the same period) share one stream: its frame is
-// encoded once per snapshot and the bytes are shared by every session on it.
-// The stream's id is the subscription_id clients see.
+// Fans snapshots and world events out to subscribers. Subscriptions that
+// ask for the same thing (the same bodies at the same period, with the same
+// fields and event kinds) share one stream: its frame is encoded once per
+// snapshot and the bytes are shared by every session on it. The stream's id
+// is the subscription_id clients see.
 //
 // The sim thread hands snapshots over with offer(), which never blocks: it
 // keeps only the latest one and posts the publishing to the I/O thread. A
 // new subscriber asks the sim for a snapshot and gets the current state from
-// it at once, whatever its stream's period.
+// it at once, whatever its stream's period, paused or not. An out-of-band
+// snapshot (an edit while paused) goes to every stream.
 //
-// Thread: offer() from any thread; everything else on the I/O thread.
+// Events come over with offer_events(), which queues them all (they are not
+// latest-wins); each is sent as a WorldEvent to the members of the streams
+// that asked for its kind, before the frame of the same tick. A removed body
+// leaves the filters of the streams that named it.
+//
+// Thread: offer() and offer_events() from any thread; everything else on
+// the I/O thread.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +30,7 @@
 #include "sim/request_check.h"
 #include "sim/simulation.h"
 #include "sim/snapshot.h"
+#include "sim/world_event.h"
 #include "tumble/v1/protocol.pb.h"
 
 namespace tumble::net {
@@ -54,6 +63,9 @@ class Publisher {
   // Hands a snapshot over from the sim thread.
   void offer(std::shared_ptr<const sim::Snapshot> snapshot);
 
+  // Hands a tick's events over from the sim thread.
+  void offer_events(std::shared_ptr<const sim::WorldEvents> events);
+
   std::size_t stream_count() const { return streams_.size(); }
 
  private:
@@ -66,6 +78,8 @@ class Publisher {
     bool all_bodies = true;
     std::vector<physics::BodyId> bodies;  // sorted, when !all_bodies
     std::uint32_t period_ticks = 1;
+    bool velocities = true;               // POSE_FIELDS_POSE_AND_VELOCITY
+    std::uint32_t event_kinds = 0;        // bit k set: events of tumble.v1.WorldEventKind k
     std::uint64_t last_tick = 0;          // tick of the last regular frame
     std::vector<Member> members;
     std::vector<Member> awaiting_first;   // joined since the last frame
@@ -73,8 +87,10 @@ class Publisher {
 
   void publish_latest();
   void publish(const sim::Snapshot& snapshot);
+  void deliver(const sim::WorldEvent& event);
   std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
-  void update_periods();
+  // Tells the sim the periods it must publish at and whether anyone wants sleep events.
+  void update_sim_interest();
 
   boost::asio::io_context& io_;
   sim::Simulation& sim_;
@@ -82,8 +98,10 @@ class Publisher {
   std::uint32_t next_stream_id_ = 1;
 
   std::mutex handoff_mutex_;
-  std::shared_ptr<const sim::Snapshot> latest_;  // guarded by handoff_mutex_
-  bool publish_posted_ = false;                  // guarded by handoff_mutex_
+  std::shared_ptr<const sim::Snapshot> latest_;                    // guarded by handoff_mutex_
+  std::vector<std::shared_ptr<const sim::WorldEvents>> events_;    // guarded by handoff_mutex_
+  bool publish_posted_ = false;                                    // guarded by handoff_mutex_
+  std::vector<std::shared_ptr<const sim::WorldEvents>> delivering_;  // I/O thread's swap partner of events_
 };
 
 }  // namespace tumble::net

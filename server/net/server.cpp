@@ -1,5 +1,7 @@
 #include "net/server.h"
 
+#include <vector>
+
 #include "net/log.h"
 
 namespace tumble::net {
@@ -7,16 +9,27 @@ namespace tumble::net {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 
+namespace {
+
+// How often session deadlines are checked: the resolution of the handshake
+// timeout and of the undelivered-message limit.
+constexpr auto kDeadlineSweepInterval = std::chrono::milliseconds(100);
+
+}  // namespace
+
 Server::Server(asio::io_context& io, sim::Simulation& sim, ServerConfig config)
     : io_(io),
       sim_(sim),
       config_(std::move(config)),
       acceptor_(io),
       accept_retry_(io),
+      sweep_timer_(io),
       publisher_(io, sim),
-      context_{io, sim, publisher_, config_.limits, config_.server_version} {
+      context_{io, sim, publisher_, config_.limits, config_.server_version, config_.access, counters_} {
   sim_.set_snapshot_listener(
       [this](std::shared_ptr<const sim::Snapshot> snapshot) { publisher_.offer(std::move(snapshot)); });
+  sim_.set_event_listener(
+      [this](std::shared_ptr<const sim::WorldEvents> events) { publisher_.offer_events(std::move(events)); });
 }
 
 Server::~Server() { stop(); }
@@ -38,6 +51,7 @@ sim::Status Server::start() {
   port_ = acceptor_.local_endpoint().port();
   net_log().info("listening on {}:{}", config_.host, port_);
   accept_next();
+  sweep_deadlines();
   return {};
 }
 
@@ -45,10 +59,13 @@ void Server::stop() {
   boost::system::error_code ignored;
   acceptor_.close(ignored);
   accept_retry_.cancel();
+  sweep_timer_.cancel();
   // close() erases from sessions_ through the closed callback: iterate a copy.
-  const auto sessions = sessions_;
-  for (const auto& [id, session] : sessions) session->close("server shutting down");
-  sessions_.clear();
+  for (auto* registry : {&sessions_, &refused_}) {
+    const auto sessions = *registry;
+    for (const auto& [id, session] : sessions) session->close("server shutting down");
+    registry->clear();
+  }
 }
 
 void Server::accept_next() {
@@ -64,14 +81,49 @@ void Server::accept_next() {
       });
       return;
     }
-    {
-      const std::uint64_t id = next_session_id_++;
-      auto session = std::make_shared<Session>(std::move(socket), id, context_,
-                                               [this](std::uint64_t closed) { sessions_.erase(closed); });
-      sessions_.emplace(id, session);
-      session->start();
-    }
+    admit(std::move(socket));
     accept_next();
+  });
+}
+
+void Server::admit(tcp::socket socket) {
+  const std::uint64_t id = next_session_id_++;
+  const bool full = sessions_.size() >= config_.max_connections;
+  if (full && refused_.size() >= config_.max_connections) {
+    // A flood of connections: refusing each politely would cost as much as
+    // serving it, so these are closed without a word.
+    boost::system::error_code ignored;
+    socket.close(ignored);
+    return;
+  }
+  auto session = std::make_shared<Session>(std::move(socket), id, context_, [this](std::uint64_t closed) {
+    sessions_.erase(closed);
+    refused_.erase(closed);
+  });
+  if (full) {
+    refused_.emplace(id, session);
+    session->refuse(tumble::v1::RESOURCE_EXHAUSTED,
+                    "the server is at its limit of " + std::to_string(config_.max_connections) +
+                        " connections; try again later");
+    return;
+  }
+  sessions_.emplace(id, session);
+  session->start();
+}
+
+void Server::sweep_deadlines() {
+  if (!acceptor_.is_open()) return;  // stopped: a sweep that was already due ends the cycle
+  const auto now = std::chrono::steady_clock::now();
+  // enforce_deadlines() may close a session, which erases it: iterate copies.
+  std::vector<std::shared_ptr<Session>> sessions;
+  sessions.reserve(sessions_.size() + refused_.size());
+  for (const auto* registry : {&sessions_, &refused_}) {
+    for (const auto& [id, session] : *registry) sessions.push_back(session);
+  }
+  for (const auto& session : sessions) session->enforce_deadlines(now);
+  sweep_timer_.expires_after(kDeadlineSweepInterval);
+  sweep_timer_.async_wait([this](const boost::system::error_code& error) {
+    if (!error) sweep_deadlines();
   });
 }
 

@@ -1,4 +1,8 @@
 // The TCP front of tumbled: accepts connections and keeps the sessions.
+// Beyond max_connections a new connection is refused with
+// RESOURCE_EXHAUSTED and closed; the sessions it has are not affected. A
+// periodic sweep enforces every session's deadlines (handshake timeout,
+// undelivered messages).
 //
 // Thread: constructed, started and stopped on the thread that runs the
 // io_context (or before it runs); all its work happens there.
@@ -21,6 +25,8 @@ struct ServerConfig {
   std::string host = "127.0.0.1";
   std::uint16_t port = 7400;  // 0 picks a free port; see Server::port()
   SessionLimits limits;
+  std::size_t max_connections = 1024;  // sessions at once, handshaking ones included
+  AccessTokens access;                 // none set: every client is a controller
   std::string server_version;
 };
 
@@ -44,15 +50,23 @@ class Server {
 
  private:
   void accept_next();
+  // Makes a session of a new connection, or refuses it when the server is full.
+  void admit(boost::asio::ip::tcp::socket socket);
+  // Calls enforce_deadlines() on every session, then again after a while.
+  void sweep_deadlines();
 
   boost::asio::io_context& io_;
   sim::Simulation& sim_;
   ServerConfig config_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::steady_timer accept_retry_;
+  boost::asio::steady_timer sweep_timer_;
   Publisher publisher_;
+  NetCounters counters_;  // GetStats's clients and bytes_sent, kept by the sessions
   SessionContext context_;
   std::map<std::uint64_t, std::shared_ptr<Session>> sessions_;
+  // Connections being refused (their Error still being written); not counted against max_connections.
+  std::map<std::uint64_t, std::shared_ptr<Session>> refused_;
   std::uint64_t next_session_id_ = 1;
   std::uint16_t port_ = 0;
 };

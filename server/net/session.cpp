@@ -1,5 +1,9 @@
 #include "net/session.h"
 
+#include <optional>
+
+#include <spdlog/fmt/fmt.h>
+
 #include "net/log.h"
 #include "net/publisher.h"
 #include "sim/request_check.h"
@@ -10,6 +14,16 @@ namespace tumble::net {
 namespace asio = boost::asio;
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+// "10 s", "0.5 s", "12.3457 s": a duration in the sentences clients and the log see.
+std::string seconds_text(Clock::duration duration) {
+  return fmt::format("{:g} s", std::chrono::duration<double>(duration).count());
+}
+
+}  // namespace
 
 Session::Session(asio::ip::tcp::socket socket, std::uint64_t id, SessionContext& context, ClosedFn on_closed)
     : socket_(std::move(socket)),
@@ -17,11 +31,18 @@ Session::Session(asio::ip::tcp::socket socket, std::uint64_t id, SessionContext&
       context_(context),
       on_closed_(std::move(on_closed)),
       reader_(context.limits.max_frame_bytes),
+      connected_at_(Clock::now()),
+      command_budget_(context.limits.commands_per_second, context.limits.command_burst, connected_at_),
       linger_timer_(context.io) {
+  ++context_.counters.clients;
   boost::system::error_code ignored;
   const auto endpoint = socket_.remote_endpoint(ignored);
   peer_ = ignored ? std::string("unknown") : endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
   socket_.set_option(asio::ip::tcp::no_delay(true), ignored);
+}
+
+Session::~Session() {
+  if (!closed_) --context_.counters.clients;
 }
 
 void Session::start() {
@@ -31,6 +52,7 @@ void Session::start() {
 
 void Session::read_more() {
   if (closed_ || reading_stopped_) return;
+  read_in_flight_ = true;
   socket_.async_read_some(asio::buffer(read_buffer_),
                           [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
                             self->on_read(error, bytes);
@@ -38,7 +60,18 @@ void Session::read_more() {
 }
 
 void Session::on_read(const boost::system::error_code& error, std::size_t bytes) {
+  read_in_flight_ = false;
   if (closed_) return;
+  if (reading_stopped_) {
+    // The session refused the client (a deadline passed) while this read
+    // was under way: what it brought is discarded, as in linger().
+    if (error) {
+      close(close_reason_);
+    } else {
+      linger_read();
+    }
+    return;
+  }
   if (error) {
     close(error == asio::error::eof ? "client closed the connection" : "read failed: " + error.message());
     return;
@@ -93,6 +126,15 @@ void Session::handle_hello(const ClientMessage& message) {
          message.request_id());
     return;
   }
+  const std::optional<tumble::v1::Role> role = authenticate(context_.access, hello.token());
+  if (!role) {
+    fail(tumble::v1::UNAUTHENTICATED,
+         hello.token().empty() ? "this server requires an access token in Hello"
+                               : "the access token in Hello is not accepted by this server",
+         message.request_id());
+    return;
+  }
+  role_ = *role;
   greeted_ = true;
   client_name_ = hello.client_name();
   ServerMessage reply;
@@ -103,11 +145,35 @@ void Session::handle_hello(const ClientMessage& message) {
   welcome.set_tick(context_.sim.tick());
   welcome.set_sim_time(context_.sim.sim_time());
   welcome.set_body_count(context_.sim.body_count());
+  welcome.set_role(role_);
   send(reply);
-  net_log().info("session {}: {} '{}' joined", id_, peer_, client_name_);
+  net_log().info("session {}: {} '{}' joined as {}", id_, peer_, client_name_,
+                 role_ == tumble::v1::ROLE_OBSERVER ? "an observer" : "a controller");
+}
+
+bool Session::admit(const ClientMessage& message) {
+  // The rate comes first, so that even refusals cannot be had faster than it.
+  if (!command_budget_.try_take(Clock::now())) {
+    if (!rate_limited_) {
+      net_log().info("session {}: {} is over {:g} requests per second; refusing the excess", id_, peer_,
+                     context_.limits.commands_per_second);
+    }
+    rate_limited_ = true;
+    send_error(message.request_id(), tumble::v1::RATE_LIMITED,
+               fmt::format("over the limit of {:g} requests per second; this request was not applied",
+                           context_.limits.commands_per_second));
+    return false;
+  }
+  rate_limited_ = false;
+  if (!role_may(role_, message.kind_case())) {
+    send_error(message.request_id(), tumble::v1::PERMISSION_DENIED, observer_denial(message.kind_case()));
+    return false;
+  }
+  return true;
 }
 
 void Session::handle_request(ClientMessage message) {
+  if (!admit(message)) return;
   if (auto problem = sim::check_request(message)) {
     send_error(message.request_id(), problem->code, problem->message);
     return;
@@ -130,11 +196,16 @@ void Session::handle_request(ClientMessage message) {
   sim::Command command;
   command.message = std::move(message);
   command.reply = [weak = weak_from_this(), &io = context_.io](ServerMessage reply) {
-    asio::post(io, [weak, reply = std::move(reply)] {
-      if (auto self = weak.lock()) self->send(reply);
+    asio::post(io, [weak, reply = std::move(reply)]() mutable {
+      if (auto self = weak.lock()) self->send_reply(std::move(reply));
     });
   };
   context_.sim.submit(std::move(command));
+}
+
+void Session::send_reply(ServerMessage reply) {
+  if (reply.has_stats()) context_.counters.fill(*reply.mutable_stats());
+  send(reply);
 }
 
 void Session::handle_subscribe(const ClientMessage& message) {
@@ -185,8 +256,27 @@ void Session::fail(tumble::v1::ErrorCode code, const std::string& text, std::uin
   if (!writing_) write_more();
 }
 
+void Session::refuse(tumble::v1::ErrorCode code, const std::string& text) { fail(code, text); }
+
+void Session::enforce_deadlines(Clock::time_point now) {
+  if (closed_) return;
+  if (!greeted_ && !reading_stopped_ && now - connected_at_ > context_.limits.handshake_timeout) {
+    fail(tumble::v1::HANDSHAKE_REQUIRED,
+         "no Hello within " + seconds_text(context_.limits.handshake_timeout) + " of connecting");
+    return;
+  }
+  // Anything queued is written as soon as the write before it is done, so
+  // the oldest undelivered bytes are those of the write under way.
+  if (writing_ && now - in_flight_since_ > context_.limits.max_undelivered) {
+    close("a message queued " + seconds_text(now - in_flight_since_) +
+          " ago is still undelivered (the client is not reading), over the limit of " +
+          seconds_text(context_.limits.max_undelivered));
+  }
+}
+
 void Session::send(const ServerMessage& message) {
   if (closed_) return;
+  if (outbound_.empty()) queued_since_ = Clock::now();
   outbound_.push_message(wire::encode_frame(message));
   if (outbound_.pending_message_bytes() > context_.limits.max_pending_bytes) {
     close("client left " + std::to_string(outbound_.pending_message_bytes()) +
@@ -198,6 +288,7 @@ void Session::send(const ServerMessage& message) {
 
 void Session::send_frame(std::uint32_t stream, std::shared_ptr<const std::string> bytes) {
   if (closed_ || close_when_flushed_) return;
+  if (outbound_.empty()) queued_since_ = Clock::now();
   outbound_.offer_frame(stream, std::move(bytes));
   if (!writing_) write_more();
 }
@@ -209,6 +300,7 @@ void Session::write_more() {
     return;
   }
   outbound_.take_batch(in_flight_);
+  in_flight_since_ = queued_since_;
   write_buffers_.clear();
   for (std::string_view piece : in_flight_.pieces) write_buffers_.emplace_back(piece.data(), piece.size());
   writing_ = true;
@@ -220,6 +312,7 @@ void Session::write_more() {
 
 void Session::on_written(const boost::system::error_code& error) {
   writing_ = false;
+  if (!error) context_.counters.bytes_sent += in_flight_.bytes;
   if (closed_) return;
   if (error) {
     close("write failed: " + error.message());
@@ -235,14 +328,16 @@ void Session::linger() {
   linger_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
     if (!error) self->close(self->close_reason_);
   });
-  linger_read();
+  if (!read_in_flight_) linger_read();
 }
 
 void Session::linger_read() {
   // Discard whatever the client still sends until it closes its side.
   if (closed_) return;
+  read_in_flight_ = true;
   socket_.async_read_some(asio::buffer(read_buffer_),
                           [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
+                            self->read_in_flight_ = false;
                             if (error) {
                               self->close(self->close_reason_);
                             } else {
@@ -254,6 +349,7 @@ void Session::linger_read() {
 void Session::close(const std::string& reason) {
   if (closed_) return;
   closed_ = true;
+  --context_.counters.clients;
   net_log().info("session {}: {} disconnected: {}", id_, peer_, reason);
   boost::system::error_code ignored;
   socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);

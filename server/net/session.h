@@ -2,11 +2,14 @@
 // sim or the publisher, and writes replies and pose frames back.
 //
 // Lifecycle: the first frame must be Hello (answered by Welcome); any other
-// first message, a frame over the size limit or bytes that are not a
+// first message, no Hello within the handshake timeout, a token the server
+// does not accept, a frame over the size limit or bytes that are not a
 // ClientMessage get an Error and the connection is closed once the Error is
-// written. A request that is merely wrong (unknown body, NaN force) gets an
-// Error and the session goes on. A client that lets more than
-// max_pending_bytes of replies pile up unread is disconnected.
+// written. A request that is merely wrong (unknown body, NaN force), over the
+// client's rate, or beyond its role gets an Error and the session goes on. A
+// client that lets more than max_pending_bytes of replies pile up unread, or
+// leaves anything undelivered for longer than max_undelivered, is
+// disconnected.
 //
 // Thread: everything runs on the I/O thread; the sim's replies are posted
 // to it. The Session is owned by shared_ptrs held by its pending I/O and by
@@ -14,14 +17,18 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "net/access.h"
 #include "net/asio.h"
+#include "net/net_counters.h"
 #include "net/outbound_queue.h"
+#include "net/token_bucket.h"
 #include "tumble/v1/protocol.pb.h"
 #include "wire/frame.h"
 
@@ -37,6 +44,12 @@ class Publisher;
 struct SessionLimits {
   std::size_t max_frame_bytes = wire::kDefaultMaxFrameBytes;  // largest inbound frame
   std::size_t max_pending_bytes = std::size_t{8} << 20;       // unsent replies before disconnect
+  // How long a reply or frame may wait to be taken by the client before it is disconnected.
+  std::chrono::steady_clock::duration max_undelivered = std::chrono::seconds(10);
+  // How long a new connection may take to send Hello.
+  std::chrono::steady_clock::duration handshake_timeout = std::chrono::seconds(10);
+  double commands_per_second = 1000;  // requests after Hello, on average; > 0
+  double command_burst = 1000;        // requests at once, before the rate applies; >= 1
 };
 
 // What a session needs from the server that made it.
@@ -46,6 +59,8 @@ struct SessionContext {
   Publisher& publisher;
   SessionLimits limits;
   std::string server_version;
+  AccessTokens access;
+  NetCounters& counters;  // the server's; each session counts itself and what it writes
 };
 
 class Session : public std::enable_shared_from_this<Session> {
@@ -53,6 +68,7 @@ class Session : public std::enable_shared_from_this<Session> {
   using ClosedFn = std::function<void(std::uint64_t session_id)>;
 
   Session(boost::asio::ip::tcp::socket socket, std::uint64_t id, SessionContext& context, ClosedFn on_closed);
+  ~Session();
 
   // Starts reading. Call once, after the Session is owned by a shared_ptr.
   void start();
@@ -66,6 +82,16 @@ class Session : public std::enable_shared_from_this<Session> {
   // Closes the connection now, logging `reason`.
   void close(const std::string& reason);
 
+  // Instead of start(), for a connection the server will not serve: writes
+  // an Error of `code` and `text`, then closes, reading no request.
+  void refuse(tumble::v1::ErrorCode code, const std::string& text);
+
+  // Disconnects the client if a deadline has passed at `now`: no Hello
+  // within the handshake timeout (HANDSHAKE_REQUIRED), or a reply or frame
+  // undelivered for longer than max_undelivered. The server calls it
+  // periodically.
+  void enforce_deadlines(std::chrono::steady_clock::time_point now);
+
   std::uint64_t id() const { return id_; }
   const std::string& peer() const { return peer_; }
 
@@ -74,7 +100,12 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_read(const boost::system::error_code& error, std::size_t bytes);
   // False when the connection must stop reading.
   bool handle_frame(std::string_view body);
+  // False (and the request answered with an Error) when it is over the
+  // client's rate or beyond its role.
+  bool admit(const tumble::v1::ClientMessage& message);
   void handle_request(tumble::v1::ClientMessage message);
+  // Sends the sim's reply to a request, adding the network's figures to a Stats.
+  void send_reply(tumble::v1::ServerMessage reply);
   void handle_hello(const tumble::v1::ClientMessage& message);
   void handle_subscribe(const tumble::v1::ClientMessage& message);
   void handle_unsubscribe(const tumble::v1::ClientMessage& message);
@@ -100,12 +131,19 @@ class Session : public std::enable_shared_from_this<Session> {
   std::array<char, 64 * 1024> read_buffer_{};
   bool greeted_ = false;
   bool reading_stopped_ = false;
+  bool read_in_flight_ = false;  // a read is under way (its handler has not run)
   bool closed_ = false;
+  const std::chrono::steady_clock::time_point connected_at_;
+  tumble::v1::Role role_ = tumble::v1::ROLE_UNSPECIFIED;  // set by the Hello
+  TokenBucket command_budget_;  // requests this client may still send now
+  bool rate_limited_ = false;   // the last request was refused for its rate (logged once per episode)
 
   OutboundQueue outbound_;
   OutboundQueue::Batch in_flight_;
   std::vector<boost::asio::const_buffer> write_buffers_;
   bool writing_ = false;
+  std::chrono::steady_clock::time_point queued_since_;     // when the oldest entry in outbound_ was queued
+  std::chrono::steady_clock::time_point in_flight_since_;  // when the oldest entry in in_flight_ was queued
   bool close_when_flushed_ = false;
   std::string close_reason_;
   boost::asio::steady_timer linger_timer_;

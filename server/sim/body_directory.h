@@ -1,6 +1,6 @@
-// The names and descriptions of a world's bodies, by id. The sim thread
-// builds a new directory whenever bodies are added or removed and shares it,
-// immutable, with every snapshot taken until the next change.
+// The names and descriptions of a world's bodies, by id. The simulation
+// owns one and keeps it in step with its world; other threads reach it only
+// through Simulation::resolve. Not thread-safe by itself.
 #pragma once
 
 #include <memory>

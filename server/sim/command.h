@@ -3,22 +3,30 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <utility>
 #include <vector>
 
+#include "physics/body.h"
 #include "tumble/v1/protocol.pb.h"
 
 namespace tumble::sim {
 
-// Receives the reply to one command. Called exactly once, on the sim thread;
-// it must not block (the network layer posts the reply to its own thread).
+// Receives the reply to one command. Called once, on the sim thread, or on
+// the thread that submitted the command when Simulation::submit refuses it
+// at once; never if the simulation stops first (a Step under way). It must
+// not block (the network layer posts the reply to its own thread).
 using ReplyFn = std::function<void(tumble::v1::ServerMessage)>;
 
 // A checked request (see check_request) and where its reply goes.
 struct Command {
   tumble::v1::ClientMessage message;
   ReplyFn reply;
+  // SpawnBody: the body, converted from its spec by Simulation::submit on
+  // the submitting thread, so a large convex hull is not built on the sim
+  // thread. Empty for other requests.
+  std::shared_ptr<const physics::BodyDesc> body_desc = nullptr;
 };
 
 // Many producers (I/O threads), one consumer (the sim thread). The sim takes

@@ -24,6 +24,15 @@ std::optional<RequestError> check_vec3(const tumble::v1::Vec3& v, const char* fi
                  std::to_string(v.x()) + ", " + std::to_string(v.y()) + ", " + std::to_string(v.z()) + "]");
 }
 
+// A rotation as it arrives from a client: finite, and unit length up to the
+// rounding of hand-typed numbers (the sim normalises it exactly).
+std::optional<RequestError> check_quat(const tumble::v1::Quat& q, const char* field) {
+  const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
+  if (std::isfinite(norm) && std::abs(norm - 1.0) <= 1e-3) return std::nullopt;
+  return invalid(std::string(field) + " must be a unit quaternion [w, x, y, z], got [" + std::to_string(q.w()) +
+                 ", " + std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + "]");
+}
+
 std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool present) {
   if (!present || ref.ref_case() == tumble::v1::BodyRef::REF_NOT_SET) return invalid("body is required");
   if (ref.ref_case() == tumble::v1::BodyRef::kName && ref.name().empty()) {
@@ -50,6 +59,10 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
     case ClientMessage::kHello:
     case ClientMessage::kListBodies:
     case ClientMessage::kUnsubscribe:
+    case ClientMessage::kPause:
+    case ClientMessage::kResume:
+    case ClientMessage::kReset:
+    case ClientMessage::kGetStats:
       return std::nullopt;
 
     case ClientMessage::kApplyForce: {
@@ -58,6 +71,9 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
       if (!m.has_force()) return invalid("force is required");
       if ((error = check_vec3(m.force(), "force"))) return error;
       if ((error = check_vec3(m.point(), "point"))) return error;
+      if (m.persistent() && m.duration_case() != tumble::v1::ApplyForce::DURATION_NOT_SET) {
+        return invalid("a persistent force lasts until cleared and takes no duration");
+      }
       return check_duration(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
     }
     case ClientMessage::kApplyTorque: {
@@ -65,6 +81,9 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
       if ((error = check_body_ref(m.body(), m.has_body()))) return error;
       if (!m.has_torque()) return invalid("torque is required");
       if ((error = check_vec3(m.torque(), "torque"))) return error;
+      if (m.persistent() && m.duration_case() != tumble::v1::ApplyTorque::DURATION_NOT_SET) {
+        return invalid("a persistent torque lasts until cleared and takes no duration");
+      }
       return check_duration(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
     }
     case ClientMessage::kApplyImpulse: {
@@ -81,6 +100,48 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
       }
       for (const auto& ref : m.bodies()) {
         if ((error = check_body_ref(ref, true))) return error;
+      }
+      if (!tumble::v1::PoseFields_IsValid(m.fields())) {
+        return invalid("fields must be POSE_FIELDS_POSE_AND_VELOCITY or POSE_FIELDS_POSE, got " +
+                       std::to_string(m.fields()));
+      }
+      for (const int kind : m.events()) {
+        if (kind == tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED || !tumble::v1::WorldEventKind_IsValid(kind)) {
+          return invalid("events holds " + std::to_string(kind) + ", which is no kind of WorldEvent");
+        }
+      }
+      return std::nullopt;
+    }
+    case ClientMessage::kSpawnBody:
+      // The spec itself is judged by body_desc_from_spec when the sim takes the request.
+      if (!message.spawn_body().has_body()) return invalid("body is required");
+      return std::nullopt;
+    case ClientMessage::kRemoveBody:
+      return check_body_ref(message.remove_body().body(), message.remove_body().has_body());
+    case ClientMessage::kSetBodyState: {
+      const auto& m = message.set_body_state();
+      if ((error = check_body_ref(m.body(), m.has_body()))) return error;
+      if (m.has_position() && (error = check_vec3(m.position(), "position"))) return error;
+      if (m.has_orientation() && (error = check_quat(m.orientation(), "orientation"))) return error;
+      if (m.has_linear_velocity() && (error = check_vec3(m.linear_velocity(), "linear_velocity"))) return error;
+      if (m.has_angular_velocity() && (error = check_vec3(m.angular_velocity(), "angular_velocity"))) return error;
+      return std::nullopt;
+    }
+    case ClientMessage::kClearForces: {
+      const auto& m = message.clear_forces();
+      return m.has_body() ? check_body_ref(m.body(), true) : std::nullopt;
+    }
+    case ClientMessage::kStep: {
+      const std::uint32_t ticks = message.step().ticks();
+      if (ticks < 1 || ticks > kMaxStepTicks) {
+        return invalid("ticks must be from 1 to " + std::to_string(kMaxStepTicks) + ", got " + std::to_string(ticks));
+      }
+      return std::nullopt;
+    }
+    case ClientMessage::kSetTickRate: {
+      const double rate = message.set_tick_rate().rate_hz();
+      if (!(std::isfinite(rate) && rate >= kMinTickRateHz && rate <= kMaxTickRateHz)) {
+        return invalid("rate_hz must be from 1 to 10000, got " + std::to_string(rate));
       }
       return std::nullopt;
     }

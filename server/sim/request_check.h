@@ -4,12 +4,20 @@
 // the named body exists is decided by the sim when it applies the request.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
 #include "tumble/v1/protocol.pb.h"
 
 namespace tumble::sim {
+
+// The tick rates a server may run at (--tick-rate, SetTickRate), in Hz.
+inline constexpr double kMinTickRateHz = 1;
+inline constexpr double kMaxTickRateHz = 10000;
+
+// The most ticks one Step may ask for.
+inline constexpr std::uint32_t kMaxStepTicks = 1000000;
 
 // Why a request was refused.
 struct RequestError {

@@ -1,18 +1,17 @@
 #include "sim/simulation.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "sim/body_spec.h"
 #include "sim/log.h"
+#include "sim/request_check.h"
 
 namespace tumble::sim {
 namespace {
 
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-using Clock = std::chrono::steady_clock;
 
 physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -51,44 +50,77 @@ physics::Vec3 body_point(const physics::World& world, physics::BodyId body, bool
   return world.orientation(body).conjugate() * (to_vec3(point) - world.position(body));
 }
 
+bool is_dynamic(const physics::World& world, physics::BodyId id) {
+  return world.motion_type(id) == physics::MotionType::dynamic_body;
+}
+
+double milliseconds(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double, std::milli>(d).count();
+}
+
 }  // namespace
 
 Status Simulation::create(const tumble::v1::Scene& scene, const SimConfig& config,
                           std::unique_ptr<Simulation>* out) {
-  if (!std::isfinite(config.tick_rate_hz) || config.tick_rate_hz <= 0 || config.tick_rate_hz > 10000) {
-    return Status::error("tick rate must be in (0, 10000] Hz");
+  if (!std::isfinite(config.tick_rate_hz) || config.tick_rate_hz < kMinTickRateHz ||
+      config.tick_rate_hz > kMaxTickRateHz) {
+    return Status::error("tick rate must be from 1 to 10000 Hz");
   }
-  std::unique_ptr<Simulation> sim(new Simulation(config));
-  sim->world_.set_gravity(to_vec3(scene.gravity()));
-  auto directory = std::make_shared<BodyDirectory>();
-  for (int i = 0; i < scene.bodies_size(); ++i) {
-    const tumble::v1::BodySpec& spec = scene.bodies(i);
+  if (static_cast<std::uint64_t>(scene.bodies_size()) > config.max_bodies) {
+    return Status::error("the scene has " + std::to_string(scene.bodies_size()) + " bodies, more than the " +
+                         std::to_string(config.max_bodies) + " allowed");
+  }
+  std::unique_ptr<Simulation> sim(new Simulation(scene, config));
+  BodyDirectory directory;
+  if (Status status = sim->build_world(&sim->world_, &directory); !status.ok()) return status;
+  sim->set_directory(std::move(directory));
+  sim->refresh_body_count();
+  *out = std::move(sim);
+  return {};
+}
+
+Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
+    : config_(config), scene_(scene), dt_(1.0 / config.tick_rate_hz), tick_rate_hz_(config.tick_rate_hz) {}
+
+Simulation::~Simulation() { stop(); }
+
+Status Simulation::build_world(physics::World* world, BodyDirectory* directory) const {
+  world->set_gravity(to_vec3(scene_.gravity()));
+  for (int i = 0; i < scene_.bodies_size(); ++i) {
+    const tumble::v1::BodySpec& spec = scene_.bodies(i);
     const std::string where = "bodies[" + std::to_string(i) + "]";
     physics::BodyDesc desc;
     if (Status status = body_desc_from_spec(spec, where, &desc); !status.ok()) return status;
     if (!spec.name().empty() && directory->id_of(spec.name()) != physics::kInvalidBodyId) {
       return Status::error(where + ".name: '" + spec.name() + "' is used by another body");
     }
-    const physics::BodyId id = sim->world_.add_body(desc);
+    const physics::BodyId id = world->add_body(desc);
     directory->add(id, BodyEntry{spec.name(), spec.shape(), desc.mass_properties.mass});
   }
-  sim->directory_ = directory;
-  sim->shared_directory_ = std::move(directory);
-  sim->body_count_ = static_cast<std::uint32_t>(sim->world_.body_count());
-  *out = std::move(sim);
   return {};
 }
 
-Simulation::Simulation(const SimConfig& config) : config_(config), dt_(1.0 / config.tick_rate_hz) {}
-
-Simulation::~Simulation() { stop(); }
-
-std::shared_ptr<const BodyDirectory> Simulation::directory() const {
+physics::BodyId Simulation::resolve(const tumble::v1::BodyRef& ref) const {
   std::lock_guard lock(directory_mutex_);
-  return shared_directory_;
+  return directory_.resolve(ref);
+}
+
+void Simulation::set_directory(BodyDirectory directory) {
+  std::lock_guard lock(directory_mutex_);
+  directory_ = std::move(directory);
+}
+
+void Simulation::refresh_body_count() {
+  body_count_.store(static_cast<std::uint32_t>(world_.body_count()), std::memory_order_relaxed);
+}
+
+double Simulation::time_of(std::uint64_t tick) const {
+  return rate_since_time_ + static_cast<double>(tick - rate_since_tick_) * dt_;
 }
 
 void Simulation::set_snapshot_listener(SnapshotListener listener) { listener_ = std::move(listener); }
+
+void Simulation::set_event_listener(WorldEventListener listener) { event_listener_ = std::move(listener); }
 
 void Simulation::start() {
   if (thread_.joinable()) return;
@@ -108,7 +140,17 @@ void Simulation::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
-void Simulation::submit(Command command) { commands_.push(std::move(command)); }
+void Simulation::submit(Command command) {
+  if (command.message.kind_case() == ClientMessage::kSpawnBody) {
+    auto desc = std::make_shared<physics::BodyDesc>();
+    if (Status status = body_desc_from_spec(command.message.spawn_body().body(), "body", desc.get()); !status.ok()) {
+      if (command.reply) command.reply(error(command.message, tumble::v1::INVALID_ARGUMENT, status.message()));
+      return;
+    }
+    command.body_desc = std::move(desc);
+  }
+  commands_.push(std::move(command));
+}
 
 void Simulation::request_snapshot() { snapshot_requested_.store(true, std::memory_order_relaxed); }
 
@@ -118,17 +160,28 @@ void Simulation::set_publish_periods(std::vector<std::uint32_t> periods) {
   periods_changed_ = true;
 }
 
+void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.store(wanted, std::memory_order_relaxed); }
+
 void Simulation::run_loop() {
-  const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dt_));
+  double loop_dt = dt_;
+  auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
   Clock::time_point start = Clock::now();
   std::uint64_t ticks_since_start = 0;
-  sim_log().info("stepping at {} Hz", config_.tick_rate_hz);
+  sim_log().info("stepping at {} Hz", tick_rate_hz());
 
   std::unique_lock lock(run_mutex_);
   while (!stopping_) {
     lock.unlock();
     run_tick();
     ++ticks_since_start;
+    if (dt_ != loop_dt) {
+      // SetTickRate: count deadlines afresh at the new period from the end of this pass.
+      loop_dt = dt_;
+      period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
+      start = Clock::now();
+      ticks_since_start = 1;
+      sim_log().info("stepping at {} Hz", tick_rate_hz());
+    }
     // Absolute deadlines: tick n ends at start + n * period, no accumulation of sleep error.
     const Clock::time_point deadline = start + ticks_since_start * period;
     const Clock::time_point now = Clock::now();
@@ -147,17 +200,87 @@ void Simulation::run_loop() {
 }
 
 void Simulation::run_tick() {
+  Clock::time_point started = Clock::now();
   commands_.drain(draining_);
   for (Command& command : draining_) apply(command);
   draining_.clear();
 
+  if (!paused_) {
+    advance();
+    const Clock::time_point now = Clock::now();
+    timing_.record_step(milliseconds(now - started));
+  } else if (steps_left_ > 0) {
+    // A Step: its ticks back to back, for at most one tick period of wall time per pass.
+    const Clock::time_point budget_end =
+        started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dt_));
+    do {
+      advance();
+      const Clock::time_point now = Clock::now();
+      timing_.record_step(milliseconds(now - started));
+      started = now;
+    } while (paused_ && steps_left_ > 0 && started < budget_end);
+  } else {
+    // No step: show edits at once, and serve a new subscriber's first frame.
+    if (edited_ && tracking_sleep_) track_sleep(next_tick_);
+    flush_events();
+    const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
+    if (edited_ || requested) publish(edited_);
+    edited_ = false;
+  }
+  timing_.record_clock(Clock::now(), time_of(next_tick_));
+}
+
+void Simulation::advance() {
   loads_.apply(world_);
   world_.step(dt_);
   ++next_tick_;
   tick_.store(next_tick_, std::memory_order_relaxed);
-  sim_time_.store(static_cast<double>(next_tick_) * dt_, std::memory_order_relaxed);
+  sim_time_.store(time_of(next_tick_), std::memory_order_relaxed);
 
-  if (publish_due()) publish();
+  const bool wanted = sleep_events_wanted_.load(std::memory_order_relaxed);
+  if (wanted && !tracking_sleep_) {
+    start_tracking_sleep();  // only changes from now on are events
+  } else if (wanted) {
+    track_sleep(next_tick_);
+  }
+  tracking_sleep_ = wanted;
+
+  if (steps_left_ > 0 && --steps_left_ == 0) {
+    if (step_command_.reply) step_command_.reply(ack(step_command_.message, next_tick_));
+    step_command_ = Command{};
+  }
+  flush_events();
+  if (publish_due()) publish(false);
+  edited_ = false;
+}
+
+void Simulation::track_sleep(std::uint64_t tick) {
+  for (std::size_t i = 0; i < world_.body_count(); ++i) {
+    const physics::BodyId id = world_.body_id_at(i);
+    if (!is_dynamic(world_, id)) continue;
+    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
+    const std::uint8_t awake = world_.is_awake(id) ? 1 : 0;
+    if (awake == awake_[id]) continue;
+    awake_[id] = awake;
+    events_.push_back({tick, awake ? WorldEventKind::body_awake : WorldEventKind::body_asleep, id,
+                       directory_.name_of(id)});
+  }
+}
+
+void Simulation::start_tracking_sleep() {
+  tracking_sleep_ = true;
+  awake_.clear();
+  for (std::size_t i = 0; i < world_.body_count(); ++i) {
+    const physics::BodyId id = world_.body_id_at(i);
+    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
+    awake_[id] = world_.is_awake(id) ? 1 : 0;
+  }
+}
+
+void Simulation::flush_events() {
+  if (events_.empty()) return;
+  if (event_listener_) event_listener_(std::make_shared<const WorldEvents>(std::move(events_)));
+  events_.clear();
 }
 
 bool Simulation::publish_due() {
@@ -173,12 +296,12 @@ bool Simulation::publish_due() {
                      [this](std::uint32_t p) { return p > 0 && next_tick_ % p == 0; });
 }
 
-void Simulation::publish() {
+void Simulation::publish(bool out_of_band) {
   if (!listener_) return;
   auto snapshot = std::make_shared<Snapshot>();
   snapshot->tick = next_tick_;
-  snapshot->sim_time = static_cast<double>(next_tick_) * dt_;
-  snapshot->directory = directory_;
+  snapshot->sim_time = time_of(next_tick_);
+  snapshot->out_of_band = out_of_band;
   const std::size_t n = world_.body_count();
   snapshot->ids.resize(n);
   snapshot->positions.resize(3 * n);
@@ -206,53 +329,68 @@ void Simulation::publish() {
 
 void Simulation::apply(Command& command) {
   const ClientMessage& message = command.message;
-  ServerMessage reply;
+  std::optional<ServerMessage> reply;
   switch (message.kind_case()) {
     case ClientMessage::kApplyForce: reply = apply_force(message); break;
     case ClientMessage::kApplyTorque: reply = apply_torque(message); break;
     case ClientMessage::kApplyImpulse: reply = apply_impulse(message); break;
     case ClientMessage::kListBodies: reply = list_bodies(message); break;
+    case ClientMessage::kSpawnBody: reply = spawn_body(command); break;
+    case ClientMessage::kRemoveBody: reply = remove_body(message); break;
+    case ClientMessage::kSetBodyState: reply = set_body_state(message); break;
+    case ClientMessage::kClearForces: reply = clear_forces(message); break;
+    case ClientMessage::kPause: reply = pause(message); break;
+    case ClientMessage::kResume: reply = resume(message); break;
+    case ClientMessage::kStep: reply = step(command); break;
+    case ClientMessage::kReset: reply = reset(message); break;
+    case ClientMessage::kSetTickRate: reply = set_tick_rate(message); break;
+    case ClientMessage::kGetStats: reply = stats(message); break;
     default:
       reply = error(message, tumble::v1::UNKNOWN_MESSAGE, "the simulation does not handle this request");
       break;
   }
-  if (command.reply) command.reply(std::move(reply));
+  if (reply && command.reply) command.reply(std::move(*reply));
 }
 
 std::uint32_t Simulation::duration_ticks(bool has_seconds, double seconds, bool has_ticks,
                                          std::uint32_t ticks) const {
   if (has_ticks) return ticks;
   if (!has_seconds) return 1;
-  // check_request bounds seconds to (0, 1e6], so this fits in 32 bits for any tick rate we accept.
-  return static_cast<std::uint32_t>(std::max(1.0, std::round(seconds * config_.tick_rate_hz)));
+  // check_request bounds seconds to (0, 1e6] and the rate to 1e4 Hz, so this fits in 32 bits.
+  return static_cast<std::uint32_t>(std::max(1.0, std::round(seconds * tick_rate_hz())));
 }
 
 ServerMessage Simulation::apply_force(const ClientMessage& message) {
   const auto& m = message.apply_force();
-  const physics::BodyId body = directory_->resolve(m.body());
+  const physics::BodyId body = directory_.resolve(m.body());
   if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
+  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
+                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
   loads_.add_force(body, to_vec3(m.force()), body_point(world_, body, m.has_point(), m.point(), m.point_frame()),
-                   duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks()));
+                   ticks);
   return ack(message, next_tick_ + 1);
 }
 
 ServerMessage Simulation::apply_torque(const ClientMessage& message) {
   const auto& m = message.apply_torque();
-  const physics::BodyId body = directory_->resolve(m.body());
+  const physics::BodyId body = directory_.resolve(m.body());
   if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  loads_.add_torque(body, to_vec3(m.torque()), duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks()));
+  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
+                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+  loads_.add_torque(body, to_vec3(m.torque()), ticks);
   return ack(message, next_tick_ + 1);
 }
 
 ServerMessage Simulation::apply_impulse(const ClientMessage& message) {
   const auto& m = message.apply_impulse();
-  const physics::BodyId body = directory_->resolve(m.body());
+  const physics::BodyId body = directory_.resolve(m.body());
   if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
   // World point r = x + R p_body (or as given), then P += J, L += (r - x) x J.
   const physics::Vec3 local = body_point(world_, body, m.has_point(), m.point(), m.point_frame());
   const physics::Vec3 point = world_.position(body) + world_.orientation(body) * local;
   world_.apply_impulse_at_point(body, to_vec3(m.impulse()), point);
-  return ack(message, next_tick_ + 1);
+  edited_ = true;
+  return ack(message, edit_tick());
 }
 
 ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
@@ -264,7 +402,7 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
     const physics::BodyId id = world_.body_id_at(i);
     auto* info = list->add_bodies();
     info->set_id(id);
-    if (const BodyEntry* entry = directory_->find(id)) {
+    if (const BodyEntry* entry = directory_.find(id)) {
       info->set_name(entry->name);
       *info->mutable_shape() = entry->shape;
     }
@@ -278,7 +416,188 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
     o->set_z(q.z());
     set_vec3(world_.linear_velocity(id), info->mutable_linear_velocity());
     set_vec3(world_.angular_velocity(id), info->mutable_angular_velocity());
+    info->set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
   }
+  return reply;
+}
+
+void Simulation::note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick) {
+  events_.push_back({tick, WorldEventKind::body_spawned, id, name});
+  if (tracking_sleep_ && is_dynamic(world_, id)) {
+    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
+    awake_[id] = world_.is_awake(id) ? 1 : 0;
+  }
+}
+
+ServerMessage Simulation::spawn_body(const Command& command) {
+  const ClientMessage& message = command.message;
+  const tumble::v1::BodySpec& spec = message.spawn_body().body();
+  if (world_.body_count() >= config_.max_bodies) {
+    return error(message, tumble::v1::RESOURCE_EXHAUSTED,
+                 "the world already holds " + std::to_string(world_.body_count()) + " bodies, the most allowed");
+  }
+  if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
+    return error(message, tumble::v1::INVALID_ARGUMENT, "body.name: '" + spec.name() + "' is used by another body");
+  }
+  physics::BodyDesc converted;
+  const physics::BodyDesc* desc = command.body_desc.get();
+  if (desc == nullptr) {
+    // Queued without submit() (a replay): convert here.
+    if (Status status = body_desc_from_spec(spec, "body", &converted); !status.ok()) {
+      return error(message, tumble::v1::INVALID_ARGUMENT, status.message());
+    }
+    desc = &converted;
+  }
+  const physics::BodyId id = world_.add_body(*desc);
+  {
+    std::lock_guard lock(directory_mutex_);
+    directory_.add(id, BodyEntry{spec.name(), spec.shape(), desc->mass_properties.mass});
+  }
+  refresh_body_count();
+  const std::uint64_t tick = edit_tick();
+  note_spawned(id, spec.name(), tick);
+  edited_ = true;
+  ServerMessage reply = ack(message, tick);
+  reply.mutable_ack()->set_body_id(id);
+  return reply;
+}
+
+ServerMessage Simulation::remove_body(const ClientMessage& message) {
+  const auto& ref = message.remove_body().body();
+  const physics::BodyId id = directory_.resolve(ref);
+  if (id == physics::kInvalidBodyId) return unknown_body(message, ref);
+  const std::string name = directory_.name_of(id);
+  world_.remove_body(id);
+  loads_.remove_body(id);
+  {
+    std::lock_guard lock(directory_mutex_);
+    directory_.remove(id);
+  }
+  refresh_body_count();
+  const std::uint64_t tick = edit_tick();
+  events_.push_back({tick, WorldEventKind::body_removed, id, name});
+  edited_ = true;
+  return ack(message, tick);
+}
+
+ServerMessage Simulation::set_body_state(const ClientMessage& message) {
+  const auto& m = message.set_body_state();
+  const physics::BodyId id = directory_.resolve(m.body());
+  if (id == physics::kInvalidBodyId) return unknown_body(message, m.body());
+  const physics::Vec3 position = m.has_position() ? to_vec3(m.position()) : world_.position(id);
+  physics::Quat orientation = world_.orientation(id);
+  if (m.has_orientation()) {
+    const auto& q = m.orientation();
+    orientation = physics::Quat(q.w(), q.x(), q.y(), q.z()).normalized();
+  }
+  // Velocities not given keep their world-frame values, also when the orientation changes.
+  const physics::Vec3 v = m.has_linear_velocity() ? to_vec3(m.linear_velocity()) : world_.linear_velocity(id);
+  const physics::Vec3 w = m.has_angular_velocity() ? to_vec3(m.angular_velocity()) : world_.angular_velocity(id);
+  world_.set_state(id, position, orientation, v, w);
+  edited_ = true;
+  return ack(message, edit_tick());
+}
+
+ServerMessage Simulation::clear_forces(const ClientMessage& message) {
+  const auto& m = message.clear_forces();
+  if (m.has_body()) {
+    const physics::BodyId id = directory_.resolve(m.body());
+    if (id == physics::kInvalidBodyId) return unknown_body(message, m.body());
+    loads_.remove_body(id);
+  } else {
+    loads_.clear();
+  }
+  // The next step is the first without them.
+  return ack(message, next_tick_ + 1);
+}
+
+ServerMessage Simulation::pause(const ClientMessage& message) {
+  if (!paused_) sim_log().info("paused at tick {}", next_tick_);
+  paused_ = true;
+  paused_flag_.store(true, std::memory_order_relaxed);
+  return ack(message, next_tick_);
+}
+
+ServerMessage Simulation::resume(const ClientMessage& message) {
+  if (paused_) sim_log().info("resumed at tick {}", next_tick_);
+  paused_ = false;
+  paused_flag_.store(false, std::memory_order_relaxed);
+  return ack(message, next_tick_ + 1);
+}
+
+std::optional<ServerMessage> Simulation::step(Command& command) {
+  const ClientMessage& message = command.message;
+  if (!paused_) {
+    return error(message, tumble::v1::FAILED_PRECONDITION, "the simulation is running; Pause it before stepping");
+  }
+  if (steps_left_ > 0) {
+    return error(message, tumble::v1::FAILED_PRECONDITION,
+                 "a Step is under way with " + std::to_string(steps_left_) + " ticks left");
+  }
+  steps_left_ = message.step().ticks();
+  step_command_ = std::move(command);
+  return std::nullopt;
+}
+
+ServerMessage Simulation::reset(const ClientMessage& message) {
+  physics::World fresh;
+  fresh.set_settings(world_.settings());
+  BodyDirectory directory;
+  // The scene built once in create(), so it builds again.
+  if (Status status = build_world(&fresh, &directory); !status.ok()) {
+    return error(message, tumble::v1::INTERNAL, "the scene no longer builds: " + status.message());
+  }
+  // The scene's bodies get their first ids again; ids handed out since are never reused.
+  fresh.set_next_body_id(world_.next_body_id());
+  const std::uint64_t tick = edit_tick();
+  events_.push_back({tick, WorldEventKind::world_reset, physics::kInvalidBodyId, {}});
+  // Ids below the scene's body count are the scene's bodies in both worlds
+  // (ids are handed out in order and never reused).
+  for (std::size_t i = 0; i < world_.body_count(); ++i) {
+    const physics::BodyId id = world_.body_id_at(i);
+    if (!fresh.contains(id)) events_.push_back({tick, WorldEventKind::body_removed, id, directory_.name_of(id)});
+  }
+  std::vector<physics::BodyId> restored;
+  for (std::size_t i = 0; i < fresh.body_count(); ++i) {
+    const physics::BodyId id = fresh.body_id_at(i);
+    if (!world_.contains(id)) restored.push_back(id);
+  }
+  world_ = std::move(fresh);
+  set_directory(std::move(directory));
+  loads_.clear();
+  refresh_body_count();
+  if (tracking_sleep_) start_tracking_sleep();  // the fresh world's states, without events
+  for (physics::BodyId id : restored) note_spawned(id, directory_.name_of(id), tick);
+  edited_ = true;
+  sim_log().info("reset to the scene at tick {}", next_tick_);
+  return ack(message, tick);
+}
+
+ServerMessage Simulation::set_tick_rate(const ClientMessage& message) {
+  const double rate = message.set_tick_rate().rate_hz();
+  // Sim time so far stays; ticks from here on last 1 / rate.
+  rate_since_time_ = time_of(next_tick_);
+  rate_since_tick_ = next_tick_;
+  dt_ = 1.0 / rate;
+  tick_rate_hz_.store(rate, std::memory_order_relaxed);
+  return ack(message, next_tick_ + 1);
+}
+
+ServerMessage Simulation::stats(const ClientMessage& message) const {
+  ServerMessage reply;
+  auto& stats = *reply.mutable_stats();
+  stats.set_request_id(message.request_id());
+  stats.set_tick(next_tick_);
+  stats.set_sim_time(time_of(next_tick_));
+  stats.set_paused(paused_);
+  stats.set_tick_rate_hz(tick_rate_hz());
+  stats.set_real_time_factor(paused_ ? 0.0 : timing_.real_time_factor());
+  stats.set_tick_ms_p50(timing_.step_ms_quantile(0.5));
+  stats.set_tick_ms_p99(timing_.step_ms_quantile(0.99));
+  stats.set_overruns(overruns());
+  stats.set_bodies(static_cast<std::uint32_t>(world_.body_count()));
+  stats.set_bodies_awake(static_cast<std::uint32_t>(world_.awake_body_count()));
+  stats.set_bodies_asleep(static_cast<std::uint32_t>(world_.sleeping_body_count()));
   return reply;
 }
 

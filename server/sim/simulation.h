@@ -1,5 +1,6 @@
 // The simulation: one World stepped at a fixed rate on a thread of its own,
-// fed by a queue of commands and publishing snapshots of the poses.
+// fed by a queue of commands and publishing snapshots of the poses and the
+// events of each tick.
 //
 // Tick n ends at the absolute deadline t0 + n * dt on the steady clock, so
 // the rate does not drift. At each tick the sim thread drains the command
@@ -9,33 +10,49 @@
 // max_catch_up_ticks behind skips the missed ticks and counts them as
 // overruns. The sim thread never waits on anything but its clock.
 //
-// Thread: submit(), request_snapshot(), set_publish_periods() and the
-// read-only accessors may be called from any thread. run_tick() is for tests
-// and replays that step without the clock, and only while not started.
+// Paused, the loop keeps its cadence and keeps applying commands, but does
+// not step: the tick stays put. A Step request then runs its ticks back to
+// back (at most one tick period of wall time per pass, so commands are
+// still served between bursts). An edit of the world while paused is
+// published at once as an out-of-band snapshot of the current tick.
+//
+// The tick and sim time only ever grow: Reset puts the bodies back but not
+// the clock, and SetTickRate changes dt from the next tick on.
+//
+// Thread: submit(), resolve(), request_snapshot(), set_publish_periods(),
+// set_sleep_events_wanted() and the read-only accessors may be called from
+// any thread. run_tick() is for tests and replays that step without the
+// clock, and only while not started. The listeners are set before start().
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "physics/world.h"
 #include "sim/body_directory.h"
+#include "sim/body_loads.h"
 #include "sim/command.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
-#include "sim/timed_loads.h"
+#include "sim/tick_timing.h"
+#include "sim/world_event.h"
 #include "tumble/v1/scene.pb.h"
 
 namespace tumble::sim {
 
 struct SimConfig {
-  double tick_rate_hz = 240;
+  double tick_rate_hz = 240;             // kMinTickRateHz to kMaxTickRateHz (request_check.h)
   std::uint32_t max_catch_up_ticks = 8;  // late ticks run back to back before the rest are skipped
+  std::uint32_t max_bodies = 100000;     // SpawnBody beyond it is RESOURCE_EXHAUSTED
 };
 
 // Receives each published snapshot on the sim thread; must not block.
@@ -43,8 +60,9 @@ using SnapshotListener = std::function<void(std::shared_ptr<const Snapshot>)>;
 
 class Simulation {
  public:
-  // Builds the world of `scene`; fails with a message naming the body and
-  // field when the scene does not describe a valid world.
+  // Builds the world of `scene`, which it keeps for Reset; fails with a
+  // message naming the body and field when the scene does not describe a
+  // valid world or holds more than max_bodies bodies.
   static Status create(const tumble::v1::Scene& scene, const SimConfig& config,
                        std::unique_ptr<Simulation>* out);
   ~Simulation();
@@ -55,62 +73,127 @@ class Simulation {
   // Set before start(); called with each published snapshot.
   void set_snapshot_listener(SnapshotListener listener);
 
+  // Set before start(); called with the events of each tick that has any.
+  // Spawns, removals and resets are always reported; sleep changes only
+  // while set_sleep_events_wanted(true).
+  void set_event_listener(WorldEventListener listener);
+
   // Starts the sim thread.
   void start();
   // Stops and joins the sim thread. Idempotent.
   void stop();
 
   // Queues a checked request; it is applied at the start of the next tick
-  // and its reply handed to command.reply.
+  // and its reply handed to command.reply. A SpawnBody's spec is converted
+  // here, on the calling thread; if it does not describe a body the reply
+  // (INVALID_ARGUMENT) is given at once and nothing is queued.
   void submit(Command command);
 
-  // Makes the next tick publish a snapshot whatever the periods are.
+  // The id of the body `ref` names now, or kInvalidBodyId.
+  physics::BodyId resolve(const tumble::v1::BodyRef& ref) const;
+
+  // Makes the next pass of the loop publish a snapshot whatever the periods
+  // are, paused or not.
   void request_snapshot();
 
   // The periods, in ticks, of the active subscriptions: a snapshot is
   // published after every tick that one of them divides.
   void set_publish_periods(std::vector<std::uint32_t> periods);
 
-  // Applies queued commands, steps once and publishes if due.
+  // Whether to watch for bodies falling asleep and waking (a scan of the
+  // bodies after every step), because a subscriber asked for those events.
+  void set_sleep_events_wanted(bool wanted);
+
+  // One pass of the loop: applies queued commands, then, unless paused,
+  // steps once and publishes if due; paused, it runs the ticks of a Step
+  // under way, or publishes an edit or a requested snapshot of the current
+  // tick.
   void run_tick();
 
-  double tick_rate_hz() const { return config_.tick_rate_hz; }
+  double tick_rate_hz() const { return tick_rate_hz_.load(std::memory_order_relaxed); }
   std::uint64_t tick() const { return tick_.load(std::memory_order_relaxed); }
   double sim_time() const { return sim_time_.load(std::memory_order_relaxed); }
   std::uint32_t body_count() const { return body_count_.load(std::memory_order_relaxed); }
+  bool paused() const { return paused_flag_.load(std::memory_order_relaxed); }
   // Ticks skipped because the sim fell too far behind its clock.
   std::uint64_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
 
-  // The current names and shapes of the bodies.
-  std::shared_ptr<const BodyDirectory> directory() const;
-
-  // The world, for tests that run the sim with run_tick(); not while started.
+  // The world and its loads, for tests that run the sim with run_tick();
+  // not while started.
   const physics::World& world() const { return world_; }
+  const BodyLoads& loads() const { return loads_; }
 
  private:
-  explicit Simulation(const SimConfig& config);
+  using Clock = std::chrono::steady_clock;
+  using ServerMessage = tumble::v1::ServerMessage;
+  using ClientMessage = tumble::v1::ClientMessage;
+
+  Simulation(const tumble::v1::Scene& scene, const SimConfig& config);
+
+  // Fills an empty world and directory with the bodies of scene_.
+  Status build_world(physics::World* world, BodyDirectory* directory) const;
 
   void run_loop();
+  // One step: loads, World::step, the tick, sleep changes, a Step's
+  // countdown, events and the snapshot if due.
+  void advance();
   void apply(Command& command);
-  tumble::v1::ServerMessage apply_force(const tumble::v1::ClientMessage& message);
-  tumble::v1::ServerMessage apply_torque(const tumble::v1::ClientMessage& message);
-  tumble::v1::ServerMessage apply_impulse(const tumble::v1::ClientMessage& message);
-  tumble::v1::ServerMessage list_bodies(const tumble::v1::ClientMessage& message) const;
-  void publish();
+  void publish(bool out_of_band);
   bool publish_due();
+  void flush_events();
+  // Reports, as events of `tick`, the dynamic bodies whose sleep changed
+  // since the last scan.
+  void track_sleep(std::uint64_t tick);
+  // Records every body's sleep as it is now, without events.
+  void start_tracking_sleep();
+  void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
+  void set_directory(BodyDirectory directory);
+  void refresh_body_count();
+  double time_of(std::uint64_t tick) const;
+  // The tick whose state first shows an edit applied now: the next step's,
+  // or the current one while paused.
+  std::uint64_t edit_tick() const { return paused_ ? next_tick_ : next_tick_ + 1; }
   std::uint32_t duration_ticks(bool has_seconds, double seconds, bool has_ticks, std::uint32_t ticks) const;
 
+  ServerMessage apply_force(const ClientMessage& message);
+  ServerMessage apply_torque(const ClientMessage& message);
+  ServerMessage apply_impulse(const ClientMessage& message);
+  ServerMessage list_bodies(const ClientMessage& message) const;
+  ServerMessage spawn_body(const Command& command);
+  ServerMessage remove_body(const ClientMessage& message);
+  ServerMessage set_body_state(const ClientMessage& message);
+  ServerMessage clear_forces(const ClientMessage& message);
+  ServerMessage pause(const ClientMessage& message);
+  ServerMessage resume(const ClientMessage& message);
+  // Empty when the Step is accepted: its Ack comes when its ticks are done.
+  std::optional<ServerMessage> step(Command& command);
+  ServerMessage reset(const ClientMessage& message);
+  ServerMessage set_tick_rate(const ClientMessage& message);
+  ServerMessage stats(const ClientMessage& message) const;
+
   const SimConfig config_;
-  const double dt_;  // s, 1 / tick rate
+  const tumble::v1::Scene scene_;  // the world Reset goes back to
 
   // Sim thread state.
   physics::World world_;
-  TimedLoads loads_;
-  std::shared_ptr<const BodyDirectory> directory_;
+  BodyLoads loads_;
+  BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
   std::vector<Command> draining_;
   std::vector<std::uint32_t> periods_;  // the sim thread's copy of publish_periods_
   std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
+  double dt_;                           // s, 1 / tick rate
+  std::uint64_t rate_since_tick_ = 0;   // the tick at which dt_ took effect
+  double rate_since_time_ = 0;          // s, sim time at that tick
+  bool paused_ = false;
+  std::uint32_t steps_left_ = 0;        // ticks of the Step under way
+  Command step_command_;                // the Step under way, answered when steps_left_ reaches 0
+  bool edited_ = false;                 // the world was edited since the last snapshot
+  bool tracking_sleep_ = false;         // awake_ is kept up to date
+  std::vector<std::uint8_t> awake_;     // by body id, while tracking_sleep_: 1 when awake at the last scan
+  WorldEvents events_;                  // of the tick being made
+  TickTiming timing_;
   SnapshotListener listener_;
+  WorldEventListener event_listener_;
 
   // Shared with other threads.
   CommandQueue commands_;
@@ -118,13 +201,14 @@ class Simulation {
   std::vector<std::uint32_t> publish_periods_;
   bool periods_changed_ = false;
   std::atomic<bool> snapshot_requested_{false};
+  std::atomic<bool> sleep_events_wanted_{false};
+  std::atomic<double> tick_rate_hz_;
   std::atomic<std::uint64_t> tick_{0};
   std::atomic<double> sim_time_{0};
   std::atomic<std::uint32_t> body_count_{0};
+  std::atomic<bool> paused_flag_{false};
   std::atomic<std::uint64_t> overruns_{0};
-
-  mutable std::mutex directory_mutex_;
-  std::shared_ptr<const BodyDirectory> shared_directory_;  // guarded; directory_ as other threads see it
+  mutable std::mutex directory_mutex_;  // guards directory_ against readers on other threads
 
   std::mutex run_mutex_;
   std::condition_variable run_wakeup_;

@@ -1,13 +1,12 @@
-// An immutable copy of the world's poses after one step, shared by the
-// publisher and every subscription that reads it.
+// An immutable copy of the world's poses after one step (or, while paused,
+// after an edit), shared by the publisher and every subscription that reads
+// it.
 #pragma once
 
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "physics/body.h"
-#include "sim/body_directory.h"
 
 namespace tumble::sim {
 
@@ -21,7 +20,9 @@ struct Snapshot {
   std::vector<double> orientations;        // unit quaternions, w x y z
   std::vector<double> linear_velocities;   // m/s
   std::vector<double> angular_velocities;  // rad/s
-  std::shared_ptr<const BodyDirectory> directory;
+  // The world was edited while paused (spawn, remove, set, impulse, reset):
+  // every subscription gets this frame although its tick is not new.
+  bool out_of_band = false;
 
   std::size_t body_count() const { return ids.size(); }
 };

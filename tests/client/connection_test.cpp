@@ -145,6 +145,71 @@ TEST(Connection, RequestReturnsItsAckAndQueuesTheFrameThatCameFirst) {
   EXPECT_EQ(nothing.failure().kind, FailureKind::timeout);
 }
 
+TEST(Connection, WorldEventsThatComeBeforeAReplyAreQueuedInOrder) {
+  ScriptedServer server([&](ServerPeer& peer) {
+    accept_hello(peer);
+    auto request = peer.receive();
+    ASSERT_TRUE(request.has_value());
+    ASSERT_TRUE(request->has_get_stats());
+    ServerMessage event;
+    event.mutable_world_event()->set_subscription_id(2);
+    event.mutable_world_event()->set_kind(tumble::v1::WORLD_EVENT_BODY_SPAWNED);
+    event.mutable_world_event()->set_body_id(5);
+    peer.send(event);
+    peer.send(pose_frame(2, 8));
+    ServerMessage stats;
+    stats.mutable_stats()->set_request_id(request->request_id());
+    stats.mutable_stats()->set_tick(8);
+    stats.mutable_stats()->set_clients(3);
+    peer.send(stats);
+    peer.wait_for_close();
+  });
+  auto connection = Connection::connect(server.endpoint(), "test-client", "", kGenerous);
+  ASSERT_TRUE(connection.ok()) << connection.failure().message;
+
+  auto stats = connection->get_stats(kGenerous);
+  ASSERT_TRUE(stats.ok()) << stats.failure().message;
+  EXPECT_EQ(stats->tick(), 8u);
+  EXPECT_EQ(stats->clients(), 3u);
+
+  auto first = connection->next_message(0s);
+  ASSERT_TRUE(first.ok()) << first.failure().message;
+  ASSERT_TRUE(first->has_world_event());
+  EXPECT_EQ(first->world_event().body_id(), 5u);
+  auto second = connection->next_message(0s);
+  ASSERT_TRUE(second.ok());
+  EXPECT_TRUE(second->has_pose_frame());
+}
+
+TEST(Connection, SpawnAndStepAreAnsweredByAcks) {
+  ScriptedServer server([&](ServerPeer& peer) {
+    accept_hello(peer);
+    auto spawn = peer.receive();
+    ASSERT_TRUE(spawn.has_value());
+    ASSERT_TRUE(spawn->has_spawn_body());
+    EXPECT_EQ(spawn->spawn_body().body().name(), "rock");
+    ServerMessage reply = ack(spawn->request_id(), 12);
+    reply.mutable_ack()->set_body_id(4);
+    peer.send(reply);
+    auto step = peer.receive();
+    ASSERT_TRUE(step.has_value());
+    ASSERT_TRUE(step->has_step());
+    EXPECT_EQ(step->step().ticks(), 5u);
+    peer.send(body_list(step->request_id(), 17));  // the wrong kind of answer
+    peer.wait_for_close();
+  });
+  auto connection = Connection::connect(server.endpoint(), "test-client", "", kGenerous);
+  ASSERT_TRUE(connection.ok()) << connection.failure().message;
+  tumble::v1::BodySpec spec;
+  spec.set_name("rock");
+  auto spawned = connection->spawn_body(spec, kGenerous);
+  ASSERT_TRUE(spawned.ok()) << spawned.failure().message;
+  EXPECT_EQ(spawned->body_id(), 4u);
+  auto stepped = connection->step(5, kGenerous);
+  ASSERT_FALSE(stepped.ok());
+  EXPECT_EQ(stepped.failure().kind, FailureKind::protocol);
+}
+
 TEST(Connection, RequestIdsIncrease) {
   ScriptedServer server([](ServerPeer& peer) {
     accept_hello(peer);

@@ -67,5 +67,22 @@ TEST(UnpackPoseFrame, RejectsArraysOfTheWrongLength) {
   EXPECT_FALSE(unpack_pose_frame(frame).ok());
 }
 
+TEST(UnpackPoseFrame, APoseOnlyFrameHasNoVelocities) {
+  tumble::v1::PoseFrame frame = two_body_frame();
+  frame.clear_linear_velocities();
+  frame.clear_angular_velocities();
+  auto sample = unpack_pose_frame(frame);
+  ASSERT_TRUE(sample.ok()) << sample.failure().message;
+  EXPECT_FALSE(sample->has_velocities);
+  ASSERT_EQ(sample->bodies.size(), 2u);
+  EXPECT_EQ(sample->bodies[1].position, (std::array<float, 3>{-1, -2, -3}));
+  EXPECT_EQ(sample->bodies[1].linear_velocity, (std::array<float, 3>{0, 0, 0}));
+  EXPECT_TRUE(unpack_pose_frame(two_body_frame())->has_velocities);
+
+  frame.add_linear_velocities(1);  // one velocity array present and short: broken
+  for (int i = 0; i < 5; ++i) frame.add_linear_velocities(1);
+  EXPECT_FALSE(unpack_pose_frame(frame).ok()) << "linear velocities without angular ones";
+}
+
 }  // namespace
 }  // namespace tumble::client

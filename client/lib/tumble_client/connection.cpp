@@ -58,11 +58,22 @@ ServerMessage::KindCase expected_reply(ClientMessage::KindCase request) {
     case ClientMessage::kApplyTorque:
     case ClientMessage::kApplyImpulse:
     case ClientMessage::kUnsubscribe:
+    case ClientMessage::kSpawnBody:
+    case ClientMessage::kRemoveBody:
+    case ClientMessage::kSetBodyState:
+    case ClientMessage::kClearForces:
+    case ClientMessage::kPause:
+    case ClientMessage::kResume:
+    case ClientMessage::kStep:
+    case ClientMessage::kReset:
+    case ClientMessage::kSetTickRate:
       return ServerMessage::kAck;
     case ClientMessage::kListBodies:
       return ServerMessage::kBodyList;
     case ClientMessage::kSubscribe:
       return ServerMessage::kSubscribed;
+    case ClientMessage::kGetStats:
+      return ServerMessage::kStats;
     default:
       return ServerMessage::KIND_NOT_SET;
   }
@@ -75,6 +86,7 @@ std::uint64_t echoed_request_id(const ServerMessage& message) {
     case ServerMessage::kError: return message.error().request_id();
     case ServerMessage::kBodyList: return message.body_list().request_id();
     case ServerMessage::kSubscribed: return message.subscribed().request_id();
+    case ServerMessage::kStats: return message.stats().request_id();
     default: return 0;
   }
 }
@@ -118,7 +130,7 @@ struct Connection::State {
   tcp::socket socket{io};
   wire::FrameReader reader{kMaxInboundFrameBytes};
   std::array<char, 64 * 1024> read_buffer{};
-  std::deque<ServerMessage> unsolicited;  // pose frames and connection errors not yet handed over
+  std::deque<ServerMessage> unsolicited;  // pose frames, world events and connection errors not yet handed over
   std::uint64_t next_request_id = 1;
   tumble::v1::Welcome welcome;
   std::optional<Failure> broken;  // set once the stream cannot be used; every later call returns it
@@ -289,7 +301,7 @@ Result<ServerMessage> Connection::request(ClientMessage message, Timeout timeout
     auto received = state.read(deadline, activity);
     if (!received) return received;
     ServerMessage& reply = received.value();
-    if (reply.has_pose_frame()) {
+    if (reply.has_pose_frame() || reply.has_world_event()) {
       state.unsolicited.push_back(std::move(reply));
       continue;
     }
@@ -341,6 +353,66 @@ Result<tumble::v1::Ack> Connection::unsubscribe(std::uint32_t subscription_id, T
   return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
 }
 
+Result<tumble::v1::Ack> Connection::spawn_body(const tumble::v1::BodySpec& body, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_spawn_body()->mutable_body() = body;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::remove_body(const tumble::v1::BodyRef& body, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_remove_body()->mutable_body() = body;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::set_body_state(const tumble::v1::SetBodyState& state, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_set_body_state() = state;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::clear_forces(const tumble::v1::ClearForces& clear, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_clear_forces() = clear;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::pause(Timeout timeout) {
+  ClientMessage message;
+  message.mutable_pause();
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::resume(Timeout timeout) {
+  ClientMessage message;
+  message.mutable_resume();
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::step(std::uint32_t ticks, Timeout timeout) {
+  ClientMessage message;
+  message.mutable_step()->set_ticks(ticks);
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::reset(Timeout timeout) {
+  ClientMessage message;
+  message.mutable_reset();
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::set_tick_rate(double rate_hz, Timeout timeout) {
+  ClientMessage message;
+  message.mutable_set_tick_rate()->set_rate_hz(rate_hz);
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Stats> Connection::get_stats(Timeout timeout) {
+  ClientMessage message;
+  message.mutable_get_stats();
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_stats);
+}
+
 Result<ServerMessage> Connection::next_message(Timeout timeout) {
   State& state = *state_;
   if (!state.unsolicited.empty()) {
@@ -353,7 +425,7 @@ Result<ServerMessage> Connection::next_message(Timeout timeout) {
     auto received = state.read(deadline, "waiting for a message from the server");
     if (!received) return received;
     const ServerMessage& message = received.value();
-    if (message.has_pose_frame()) return received;
+    if (message.has_pose_frame() || message.has_world_event()) return received;
     if (message.has_error() && message.error().request_id() == 0) return received;
     // Anything else is a late reply to a request that timed out.
   }

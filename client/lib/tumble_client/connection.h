@@ -4,9 +4,9 @@
 // it is done, fails, or its timeout passes; there are no background threads.
 // It is not thread-safe: use it from one thread at a time. It never prints.
 //
-// Replies and pose frames share the stream, so while request() waits for its
-// reply it queues the pose frames that arrive first; next_message() hands
-// them over in order. Replies that match no pending request (the late answer
+// Replies, pose frames and world events share the stream, so while request()
+// waits for its reply it queues the frames and events that arrive first;
+// next_message() hands them over in order. Replies that match no pending request (the late answer
 // to a request that timed out) are dropped.
 #pragma once
 
@@ -41,7 +41,10 @@ class Connection {
   // Hello{PROTOCOL_VERSION_CURRENT, client_name, token} and waits for
   // Welcome. `timeout` bounds all of it. Fails with kind connect (cannot
   // resolve or reach), timeout, closed, protocol, or server (the server
-  // refused the Hello with an Error).
+  // refused the Hello with an Error: UNAUTHENTICATED for a missing or wrong
+  // token, RESOURCE_EXHAUSTED when it is full). `token` is the server's
+  // controller or observer token, or empty when it asks for none;
+  // welcome().role() tells which role the connection got.
   static Result<Connection> connect(const Endpoint& endpoint, const std::string& client_name,
                                     const std::string& token, Timeout timeout);
 
@@ -60,8 +63,8 @@ class Connection {
 
   // Sends `message` with the next request id (1, 2, 3, ...; whatever
   // request_id it holds is replaced) and waits up to `timeout` for the reply
-  // that echoes it. Returns that reply: Ack, BodyList or Subscribed, checked
-  // against the request's kind. Fails with kind server when the reply is an
+  // that echoes it. Returns that reply: Ack, BodyList, Subscribed or Stats,
+  // checked against the request's kind. Fails with kind server when the reply is an
   // Error, or when a connection-level Error (request_id 0) arrives first;
   // with kind timeout when no reply came in time (the connection stays
   // usable, unless the request itself could not be sent in time); with
@@ -76,10 +79,22 @@ class Connection {
   Result<tumble::v1::BodyList> list_bodies(Timeout timeout);
   Result<tumble::v1::Subscribed> subscribe(const tumble::v1::Subscribe& subscribe, Timeout timeout);
   Result<tumble::v1::Ack> unsubscribe(std::uint32_t subscription_id, Timeout timeout);
+  // The Ack's body_id is the new body's id.
+  Result<tumble::v1::Ack> spawn_body(const tumble::v1::BodySpec& body, Timeout timeout);
+  Result<tumble::v1::Ack> remove_body(const tumble::v1::BodyRef& body, Timeout timeout);
+  Result<tumble::v1::Ack> set_body_state(const tumble::v1::SetBodyState& state, Timeout timeout);
+  Result<tumble::v1::Ack> clear_forces(const tumble::v1::ClearForces& clear, Timeout timeout);
+  Result<tumble::v1::Ack> pause(Timeout timeout);
+  Result<tumble::v1::Ack> resume(Timeout timeout);
+  // Answered once the ticks are stepped: allow for them in `timeout`.
+  Result<tumble::v1::Ack> step(std::uint32_t ticks, Timeout timeout);
+  Result<tumble::v1::Ack> reset(Timeout timeout);
+  Result<tumble::v1::Ack> set_tick_rate(double rate_hz, Timeout timeout);
+  Result<tumble::v1::Stats> get_stats(Timeout timeout);
 
-  // The next unsolicited message: a PoseFrame (of any subscription) or a
-  // connection-level Error (request_id 0; the server usually closes after
-  // it). Returns a queued one at once, else waits up to `timeout`. Fails
+  // The next unsolicited message: a PoseFrame or WorldEvent (of any
+  // subscription) or a connection-level Error (request_id 0; the server
+  // usually closes after it). Returns a queued one at once, else waits up to `timeout`. Fails
   // with kind timeout when nothing came in time (the connection stays
   // usable), closed when the server closed the connection, or protocol.
   Result<tumble::v1::ServerMessage> next_message(Timeout timeout);

@@ -23,6 +23,9 @@ std::array<float, N> slice(const FloatArray& values, std::size_t body) {
 
 Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
   const auto count = static_cast<std::size_t>(frame.ids_size());
+  // A pose-only frame has neither velocity array; checked as width 0.
+  const bool has_velocities = count == 0 || frame.linear_velocities_size() > 0 || frame.angular_velocities_size() > 0;
+  const std::size_t velocity_width = has_velocities ? 3 : 0;
   struct Field {
     const FloatArray& values;
     std::size_t width;
@@ -31,8 +34,8 @@ Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
   const Field fields[] = {
       {frame.positions(), 3, "positions"},
       {frame.orientations(), 4, "orientations"},
-      {frame.linear_velocities(), 3, "linear_velocities"},
-      {frame.angular_velocities(), 3, "angular_velocities"},
+      {frame.linear_velocities(), velocity_width, "linear_velocities"},
+      {frame.angular_velocities(), velocity_width, "angular_velocities"},
   };
   for (const Field& field : fields) {
     if (!has_width(field.values, count, field.width)) {
@@ -47,14 +50,17 @@ Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
   sample.subscription_id = frame.subscription_id();
   sample.tick = frame.tick();
   sample.sim_time = frame.sim_time();
+  sample.has_velocities = has_velocities;
   sample.bodies.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
     BodyPose pose;
     pose.id = frame.ids(static_cast<int>(i));
     pose.position = slice<3>(frame.positions(), i);
     pose.orientation = slice<4>(frame.orientations(), i);
-    pose.linear_velocity = slice<3>(frame.linear_velocities(), i);
-    pose.angular_velocity = slice<3>(frame.angular_velocities(), i);
+    if (has_velocities) {
+      pose.linear_velocity = slice<3>(frame.linear_velocities(), i);
+      pose.angular_velocity = slice<3>(frame.angular_velocities(), i);
+    }
     sample.bodies.push_back(pose);
   }
   return sample;

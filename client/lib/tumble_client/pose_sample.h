@@ -11,7 +11,8 @@
 namespace tumble::client {
 
 // One body's state as the server sent it, in float32 like the wire. All
-// vectors are in the world frame.
+// vectors are in the world frame; the velocities are zero when the
+// subscription asked for poses only.
 struct BodyPose {
   std::uint32_t id = 0;
   std::array<float, 3> position{};          // m, centre of mass
@@ -25,11 +26,13 @@ struct PoseSample {
   std::uint32_t subscription_id = 0;
   std::uint64_t tick = 0;
   double sim_time = 0;  // s
+  bool has_velocities = true;  // false for a subscription to POSE_FIELDS_POSE
   std::vector<BodyPose> bodies;
 };
 
 // Unpacks `frame`. Fails with kind protocol when an array's length is not
-// the number of ids times its width (3 or 4).
+// the number of ids times its width (3 or 4); both velocity arrays may
+// instead be empty (a pose-only frame).
 Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame);
 
 }  // namespace tumble::client

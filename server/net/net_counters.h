@@ -1,0 +1,25 @@
+// The network layer's figures in GetStats's Stats: the sim answers with its
+// own counters and the session that relays the answer adds these.
+//
+// Thread: the I/O thread only, like every session that updates them.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "tumble/v1/protocol.pb.h"
+
+namespace tumble::net {
+
+struct NetCounters {
+  std::size_t clients = 0;       // open connections, handshaking and refused ones included
+  std::uint64_t bytes_sent = 0;  // written to clients' sockets since the server started
+
+  // Writes the network's fields into a Stats.
+  void fill(tumble::v1::Stats& stats) const {
+    stats.set_clients(static_cast<std::uint32_t>(clients));
+    stats.set_bytes_sent(bytes_sent);
+  }
+};
+
+}  // namespace tumble::net

@@ -1,0 +1,315 @@
+// The world-editing, clock, stats and event messages on a real socket:
+// what each request is answered with, what subscribers see, and that the
+// stream stays usable after a refusal.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "raw_client.h"
+#include "test_server.h"
+
+namespace tumble::test {
+namespace {
+
+using namespace std::chrono_literals;
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
+    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
+    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
+
+bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
+  return (m.has_ack() && m.ack().request_id() == id) || (m.has_error() && m.error().request_id() == id) ||
+         (m.has_body_list() && m.body_list().request_id() == id) ||
+         (m.has_subscribed() && m.subscribed().request_id() == id) ||
+         (m.has_stats() && m.stats().request_id() == id);
+}
+
+ClientMessage spawn(std::uint64_t id, const std::string& name, double radius) {
+  ClientMessage m;
+  m.set_request_id(id);
+  auto* body = m.mutable_spawn_body()->mutable_body();
+  body->set_name(name);
+  body->mutable_shape()->mutable_sphere()->set_radius(radius);
+  body->set_mass(1);
+  body->mutable_position()->set_y(10);
+  return m;
+}
+
+ClientMessage empty_request(std::uint64_t id, void (*kind)(ClientMessage&)) {
+  ClientMessage m;
+  m.set_request_id(id);
+  kind(m);
+  return m;
+}
+
+ClientMessage pause(std::uint64_t id) {
+  return empty_request(id, [](ClientMessage& m) { m.mutable_pause(); });
+}
+ClientMessage resume(std::uint64_t id) {
+  return empty_request(id, [](ClientMessage& m) { m.mutable_resume(); });
+}
+ClientMessage get_stats(std::uint64_t id) {
+  return empty_request(id, [](ClientMessage& m) { m.mutable_get_stats(); });
+}
+
+ClientMessage step(std::uint64_t id, std::uint32_t ticks) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_step()->set_ticks(ticks);
+  return m;
+}
+
+ClientMessage subscribe(std::uint64_t id, double rate_hz, tumble::v1::PoseFields fields,
+                        std::initializer_list<tumble::v1::WorldEventKind> events = {},
+                        std::initializer_list<const char*> bodies = {}) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_subscribe()->set_rate_hz(rate_hz);
+  m.mutable_subscribe()->set_fields(fields);
+  for (auto kind : events) m.mutable_subscribe()->add_events(kind);
+  for (const char* name : bodies) m.mutable_subscribe()->add_bodies()->set_name(name);
+  return m;
+}
+
+class ControlProtocolTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(client_.handshake()); }
+
+  // Sends `message` and returns its reply, skipping frames and keeping the
+  // world events that arrive first in events_.
+  ServerMessage call(const ClientMessage& message) {
+    EXPECT_TRUE(client_.send(message));
+    const std::uint64_t id = message.request_id();
+    auto reply = client_.read_until([&](const ServerMessage& m) {
+      if (m.has_world_event()) events_.push_back(m.world_event());
+      return is_reply_to(m, id);
+    });
+    EXPECT_TRUE(reply.has_value()) << "no reply to request " << id;
+    return reply.value_or(ServerMessage{});
+  }
+
+  TestServer server_{kScene};
+  RawClient client_{server_.port()};
+  std::vector<tumble::v1::WorldEvent> events_;
+};
+
+TEST_F(ControlProtocolTest, SpawnIsAckedWithTheNewBodysId) {
+  const ServerMessage reply = call(spawn(1, "rock", 0.25));
+  ASSERT_TRUE(reply.has_ack()) << reply.DebugString();
+  ASSERT_TRUE(reply.ack().has_body_id());
+  EXPECT_EQ(reply.ack().body_id(), 2u);
+  EXPECT_GT(reply.ack().applied_tick(), 0u);
+
+  ClientMessage list;
+  list.set_request_id(2);
+  list.mutable_list_bodies();
+  const ServerMessage bodies = call(list);
+  ASSERT_EQ(bodies.body_list().bodies_size(), 3);
+  EXPECT_EQ(bodies.body_list().bodies(2).name(), "rock");
+  EXPECT_DOUBLE_EQ(bodies.body_list().bodies(2).shape().sphere().radius(), 0.25);
+  EXPECT_FALSE(bodies.body_list().bodies(2).asleep());
+}
+
+TEST_F(ControlProtocolTest, ABadSpawnGetsInvalidArgumentAndTheSessionGoesOn) {
+  const ServerMessage negative = call(spawn(1, "rock", -1));
+  ASSERT_TRUE(negative.has_error());
+  EXPECT_EQ(negative.error().code(), tumble::v1::INVALID_ARGUMENT);
+  EXPECT_NE(negative.error().message().find("body.shape.sphere.radius"), std::string::npos)
+      << negative.error().message();
+  const ServerMessage duplicate = call(spawn(2, "ball", 1));
+  ASSERT_TRUE(duplicate.has_error());
+  EXPECT_EQ(duplicate.error().code(), tumble::v1::INVALID_ARGUMENT);
+  EXPECT_TRUE(call(spawn(3, "rock", 1)).has_ack());
+}
+
+TEST_F(ControlProtocolTest, RemoveAndSetAreAcked) {
+  ClientMessage set;
+  set.set_request_id(1);
+  set.mutable_set_body_state()->mutable_body()->set_name("ball");
+  set.mutable_set_body_state()->mutable_position()->set_z(-4);
+  ASSERT_TRUE(call(set).has_ack());
+  ClientMessage remove;
+  remove.set_request_id(2);
+  remove.mutable_remove_body()->mutable_body()->set_name("ball");
+  ASSERT_TRUE(call(remove).has_ack());
+  remove.set_request_id(3);
+  const ServerMessage again = call(remove);
+  ASSERT_TRUE(again.has_error());
+  EXPECT_EQ(again.error().code(), tumble::v1::UNKNOWN_BODY);
+  EXPECT_EQ(server_.sim().body_count(), 1u);
+}
+
+TEST_F(ControlProtocolTest, PauseStepResumeAnswerWithTheirTicks) {
+  const ServerMessage step_running = call(step(1, 5));
+  ASSERT_TRUE(step_running.has_error());
+  EXPECT_EQ(step_running.error().code(), tumble::v1::FAILED_PRECONDITION);
+
+  const ServerMessage paused = call(pause(2));
+  ASSERT_TRUE(paused.has_ack());
+  const std::uint64_t at = paused.ack().applied_tick();
+  const ServerMessage stepped = call(step(3, 5));
+  ASSERT_TRUE(stepped.has_ack()) << stepped.DebugString();
+  EXPECT_EQ(stepped.ack().applied_tick(), at + 5);
+  const ServerMessage stats = call(get_stats(4));
+  EXPECT_EQ(stats.stats().tick(), at + 5);
+  EXPECT_TRUE(stats.stats().paused());
+
+  const ServerMessage resumed = call(resume(5));
+  ASSERT_TRUE(resumed.has_ack());
+  EXPECT_EQ(resumed.ack().applied_tick(), at + 6);
+  EXPECT_FALSE(call(get_stats(6)).stats().paused());
+}
+
+TEST_F(ControlProtocolTest, StatsCountTheClientsAndTheBytesSent) {
+  RawClient other(server_.port());
+  ASSERT_TRUE(other.handshake());
+  const ServerMessage first = call(get_stats(1));
+  ASSERT_TRUE(first.has_stats()) << first.DebugString();
+  EXPECT_EQ(first.stats().clients(), 2u);
+  EXPECT_EQ(first.stats().bodies(), 2u);
+  EXPECT_DOUBLE_EQ(first.stats().tick_rate_hz(), 240);
+  EXPECT_GT(first.stats().bytes_sent(), 0u) << "two Welcomes at least";
+  const ServerMessage second = call(get_stats(2));
+  EXPECT_GT(second.stats().bytes_sent(), first.stats().bytes_sent()) << "the first Stats was written since";
+}
+
+TEST_F(ControlProtocolTest, PoseOnlyFramesCarryNoVelocities) {
+  ASSERT_TRUE(call(subscribe(1, 60, tumble::v1::POSE_FIELDS_POSE)).has_subscribed());
+  const auto frame = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->pose_frame().ids_size(), 2);
+  EXPECT_EQ(frame->pose_frame().positions_size(), 6);
+  EXPECT_EQ(frame->pose_frame().orientations_size(), 8);
+  EXPECT_EQ(frame->pose_frame().linear_velocities_size(), 0);
+  EXPECT_EQ(frame->pose_frame().angular_velocities_size(), 0);
+
+  ASSERT_TRUE(call(subscribe(2, 60, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY)).has_subscribed());
+  const auto full = client_.read_until([](const ServerMessage& m) {
+    return m.has_pose_frame() && m.pose_frame().linear_velocities_size() > 0;
+  });
+  ASSERT_TRUE(full) << "the default, pose and velocity, has velocities";
+  EXPECT_EQ(full->pose_frame().angular_velocities_size(), 6);
+}
+
+TEST_F(ControlProtocolTest, ASubscriptionWhilePausedGetsTheCurrentStateAndThenNothing) {
+  const std::uint64_t at = call(pause(1)).ack().applied_tick();
+  const ServerMessage subscribed = call(subscribe(2, 240, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY));
+  ASSERT_TRUE(subscribed.has_subscribed());
+  const auto first = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+  ASSERT_TRUE(first) << "the current state at once, paused or not";
+  EXPECT_EQ(first->pose_frame().tick(), at);
+  EXPECT_FALSE(client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); }, 300ms))
+      << "no new frame while the tick stays";
+}
+
+TEST_F(ControlProtocolTest, AnEditWhilePausedReachesSubscribersAtOnce) {
+  const std::uint64_t at = call(pause(1)).ack().applied_tick();
+  ASSERT_TRUE(call(subscribe(2, 30, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"})).has_subscribed());
+  ASSERT_TRUE(client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); }));
+  ClientMessage set;
+  set.set_request_id(3);
+  set.mutable_set_body_state()->mutable_body()->set_name("ball");
+  set.mutable_set_body_state()->mutable_position()->set_y(2);
+  ASSERT_TRUE(call(set).has_ack());
+  const auto frame = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+  ASSERT_TRUE(frame);
+  EXPECT_EQ(frame->pose_frame().tick(), at);
+  EXPECT_FLOAT_EQ(frame->pose_frame().positions(1), 2.0f);
+}
+
+TEST_F(ControlProtocolTest, SubscribersHearOfSpawnsAndRemovalsBeforeTheFrame) {
+  const ServerMessage subscribed =
+      call(subscribe(1, 30, tumble::v1::POSE_FIELDS_POSE,
+                     {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED}));
+  ASSERT_TRUE(subscribed.has_subscribed());
+  const std::uint32_t subscription = subscribed.subscribed().subscription_id();
+  ASSERT_TRUE(client_.send(spawn(2, "rock", 0.5)));
+  std::uint64_t applied = 0;
+  std::uint64_t event_tick = 0;
+  bool frame_with_rock = false;
+  // Read until a frame shows the rock: the event must have come before it.
+  for (int i = 0; i < 100 && !frame_with_rock; ++i) {
+    const auto m = client_.read();
+    ASSERT_TRUE(m);
+    if (is_reply_to(*m, 2)) applied = m->ack().applied_tick();
+    if (m->has_world_event()) {
+      const auto& event = m->world_event();
+      EXPECT_EQ(event.subscription_id(), subscription);
+      EXPECT_EQ(event.kind(), tumble::v1::WORLD_EVENT_BODY_SPAWNED);
+      EXPECT_EQ(event.body_id(), 2u);
+      EXPECT_EQ(event.body_name(), "rock");
+      event_tick = event.tick();
+    }
+    if (m->has_pose_frame() && m->pose_frame().ids_size() == 3) {
+      frame_with_rock = true;
+      EXPECT_NE(event_tick, 0u) << "the event comes before the first frame that shows the body";
+    }
+  }
+  ASSERT_TRUE(frame_with_rock);
+  EXPECT_EQ(event_tick, applied);
+
+  ClientMessage remove;
+  remove.set_request_id(3);
+  remove.mutable_remove_body()->mutable_body()->set_id(2);
+  ASSERT_TRUE(client_.send(remove));
+  const auto removed = client_.read_until([](const ServerMessage& m) { return m.has_world_event(); });
+  ASSERT_TRUE(removed);
+  EXPECT_EQ(removed->world_event().kind(), tumble::v1::WORLD_EVENT_BODY_REMOVED);
+  EXPECT_EQ(removed->world_event().body_name(), "rock");
+}
+
+TEST_F(ControlProtocolTest, ANamedSubscriptionHearsOnlyOfItsBodiesAndOfResets) {
+  const ServerMessage subscribed =
+      call(subscribe(1, 30, tumble::v1::POSE_FIELDS_POSE,
+                     {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED,
+                      tumble::v1::WORLD_EVENT_WORLD_RESET},
+                     {"ball"}));
+  ASSERT_TRUE(subscribed.has_subscribed());
+  ASSERT_TRUE(call(spawn(2, "rock", 0.5)).has_ack());
+  ClientMessage remove;
+  remove.set_request_id(3);
+  remove.mutable_remove_body()->mutable_body()->set_name("ball");
+  ASSERT_TRUE(call(remove).has_ack());
+  ClientMessage reset;
+  reset.set_request_id(4);
+  reset.mutable_reset();
+  ASSERT_TRUE(call(reset).has_ack());
+  while (auto m = client_.read_until([](const ServerMessage& x) { return x.has_world_event(); }, 500ms)) {
+    events_.push_back(m->world_event());
+  }
+  std::vector<tumble::v1::WorldEventKind> kinds;
+  for (const auto& event : events_) kinds.push_back(event.kind());
+  // Not the rock's spawn; the ball's removal; the reset; not the ball's return (it left the filter).
+  EXPECT_EQ(kinds, (std::vector<tumble::v1::WorldEventKind>{tumble::v1::WORLD_EVENT_BODY_REMOVED,
+                                                            tumble::v1::WORLD_EVENT_WORLD_RESET}));
+}
+
+TEST_F(ControlProtocolTest, AnUnknownEventKindIsInvalid) {
+  ClientMessage m = subscribe(1, 30, tumble::v1::POSE_FIELDS_POSE);
+  m.mutable_subscribe()->add_events(static_cast<tumble::v1::WorldEventKind>(99));
+  const ServerMessage reply = call(m);
+  ASSERT_TRUE(reply.has_error());
+  EXPECT_EQ(reply.error().code(), tumble::v1::INVALID_ARGUMENT);
+}
+
+TEST_F(ControlProtocolTest, TheTickRateChangesForSubscriptionsMadeAfter) {
+  ClientMessage rate;
+  rate.set_request_id(1);
+  rate.mutable_set_tick_rate()->set_rate_hz(120);
+  ASSERT_TRUE(call(rate).has_ack());
+  EXPECT_DOUBLE_EQ(call(get_stats(2)).stats().tick_rate_hz(), 120);
+  const ServerMessage subscribed = call(subscribe(3, 30, tumble::v1::POSE_FIELDS_POSE));
+  EXPECT_EQ(subscribed.subscribed().period_ticks(), 4u);
+  EXPECT_DOUBLE_EQ(subscribed.subscribed().rate_hz(), 30);
+  RawClient late(server_.port());
+  const auto welcome = late.handshake();
+  ASSERT_TRUE(welcome && welcome->has_welcome());
+  EXPECT_DOUBLE_EQ(welcome->welcome().tick_rate_hz(), 120);
+}
+
+}  // namespace
+}  // namespace tumble::test
