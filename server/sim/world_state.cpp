@@ -1,0 +1,143 @@
+#include "sim/world_state.h"
+
+#include <cmath>
+#include <string>
+
+#include "sim/body_spec.h"
+
+namespace tumble::sim {
+namespace {
+
+void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
+  out->set_x(v.x());
+  out->set_y(v.y());
+  out->set_z(v.z());
+}
+
+physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+bool finite(const tumble::v1::Vec3& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
+
+tumble::v1::Motion motion_of(physics::MotionType type) {
+  switch (type) {
+    case physics::MotionType::static_body: return tumble::v1::MOTION_STATIC;
+    case physics::MotionType::kinematic_body: return tumble::v1::MOTION_KINEMATIC;
+    case physics::MotionType::dynamic_body: break;
+  }
+  return tumble::v1::MOTION_DYNAMIC;
+}
+
+}  // namespace
+
+tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory,
+                                   physics::BodyId id) {
+  tumble::v1::BodySpec spec;
+  if (const BodyEntry* entry = directory.find(id)) {
+    spec.set_name(entry->name);
+    *spec.mutable_shape() = entry->shape;
+    spec.set_mass(entry->mass);
+  }
+  spec.set_motion(motion_of(world.motion_type(id)));
+  spec.set_friction(world.friction(id));
+  spec.set_restitution(world.restitution(id));
+  set_vec3(world.position(id), spec.mutable_position());
+  const physics::Quat& q = world.orientation(id);
+  auto* orientation = spec.mutable_orientation();
+  orientation->set_w(q.w());
+  orientation->set_x(q.x());
+  orientation->set_y(q.y());
+  orientation->set_z(q.z());
+  set_vec3(world.linear_velocity(id), spec.mutable_linear_velocity());
+  set_vec3(world.angular_velocity(id), spec.mutable_angular_velocity());
+  return spec;
+}
+
+void capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
+                   tumble::v1::WorldState* state) {
+  state->set_format_version(kWorldStateFormat);
+  set_vec3(world.gravity(), state->mutable_gravity());
+  state->set_next_body_id(world.next_body_id());
+  state->clear_bodies();
+  for (std::size_t i = 0; i < world.body_count(); ++i) {
+    const physics::BodyId id = world.body_id_at(i);
+    tumble::v1::SavedBody* saved = state->add_bodies();
+    saved->set_id(id);
+    *saved->mutable_spec() = body_spec_now(world, directory, id);
+    set_vec3(world.linear_momentum(id), saved->mutable_linear_momentum());
+    set_vec3(world.angular_momentum(id), saved->mutable_angular_momentum());
+    saved->set_asleep(world.motion_type(id) == physics::MotionType::dynamic_body && !world.is_awake(id));
+    saved->set_sleep_time(world.sleep_time(id));
+  }
+  state->clear_loads();
+  for (const BodyLoad& load : loads.loads()) {
+    tumble::v1::SavedLoad* saved = state->add_loads();
+    saved->set_body(load.body);
+    set_vec3(load.force, saved->mutable_force());
+    set_vec3(load.local_point, saved->mutable_local_point());
+    set_vec3(load.torque, saved->mutable_torque());
+    saved->set_ticks_left(load.ticks_left);
+  }
+}
+
+Status restore_world(const tumble::v1::WorldState& state, physics::World* world, BodyDirectory* directory,
+                     BodyLoads* loads) {
+  if (state.format_version() != kWorldStateFormat) {
+    return Status::error("format_version: expected " + std::to_string(kWorldStateFormat) + ", got " +
+                         std::to_string(state.format_version()));
+  }
+  if (!state.has_gravity() || !finite(state.gravity())) {
+    return Status::error("gravity: missing or not finite");
+  }
+  world->set_gravity(to_vec3(state.gravity()));
+  if (state.next_body_id() == physics::kInvalidBodyId) return Status::error("next_body_id: out of range");
+
+  for (int i = 0; i < state.bodies_size(); ++i) {
+    const tumble::v1::SavedBody& saved = state.bodies(i);
+    const std::string where = "bodies[" + std::to_string(i) + "]";
+    if (saved.id() >= state.next_body_id()) {
+      return Status::error(where + ".id: " + std::to_string(saved.id()) + " is not below next_body_id");
+    }
+    if (world->contains(saved.id())) {
+      return Status::error(where + ".id: " + std::to_string(saved.id()) + " is used by another body");
+    }
+    const tumble::v1::BodySpec& spec = saved.spec();
+    if (!spec.name().empty() && directory->id_of(spec.name()) != physics::kInvalidBodyId) {
+      return Status::error(where + ".spec.name: '" + spec.name() + "' is used by another body");
+    }
+    // The saved pose must be exact: no normalisation beyond what the spec
+    // check does, and then the saved quaternion itself is put back.
+    physics::BodyDesc desc;
+    if (Status status = body_desc_from_spec(spec, where + ".spec", &desc); !status.ok()) return status;
+    if (!finite(saved.linear_momentum()) || !finite(saved.angular_momentum()) || !std::isfinite(saved.sleep_time())) {
+      return Status::error(where + ": momenta and sleep_time must be finite");
+    }
+    world->add_body_with_id(desc, saved.id());
+    if (spec.shape().kind_case() != tumble::v1::Shape::kPlane) {
+      const auto& q = spec.orientation();
+      world->restore_state(saved.id(), desc.position, physics::Quat(q.w(), q.x(), q.y(), q.z()),
+                           to_vec3(saved.linear_momentum()), to_vec3(saved.angular_momentum()), !saved.asleep(),
+                           saved.sleep_time());
+    }
+    directory->add(saved.id(), BodyEntry{spec.name(), spec.shape(), spec.mass()});
+  }
+  world->set_next_body_id(state.next_body_id());
+
+  for (int i = 0; i < state.loads_size(); ++i) {
+    const tumble::v1::SavedLoad& saved = state.loads(i);
+    const std::string where = "loads[" + std::to_string(i) + "]";
+    if (!world->contains(saved.body())) {
+      return Status::error(where + ".body: no body " + std::to_string(saved.body()));
+    }
+    if (!finite(saved.force()) || !finite(saved.local_point()) || !finite(saved.torque())) {
+      return Status::error(where + ": force, local_point and torque must be finite");
+    }
+    if (saved.ticks_left() == 0) return Status::error(where + ".ticks_left: must be at least 1");
+    loads->add(BodyLoad{saved.body(), to_vec3(saved.force()), to_vec3(saved.local_point()), to_vec3(saved.torque()),
+                        saved.ticks_left()});
+  }
+  return {};
+}
+
+}  // namespace tumble::sim
