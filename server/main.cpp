@@ -11,9 +11,13 @@
 
 #include "net/asio.h"
 #include "net/server.h"
+#include "sim/journal.h"
+#include "sim/replay.h"
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "sim/state_file.h"
+#include "sim/state_saver.h"
 
 namespace {
 
@@ -95,8 +99,32 @@ int main(int argc, char** argv) {
   app.add_option("--observer-token", tokens.observer,
                  "Token that makes a client an observer (reads only); or $TUMBLE_OBSERVER_TOKEN")
       ->envname("TUMBLE_OBSERVER_TOKEN");
+  // Persistence: the world across restarts, and runs that can be replayed.
+  std::string state_path;
+  double checkpoint_interval = 0;
+  std::string record_path;
+  std::string replay_path;
+  app.add_option("--state", state_path,
+                 "State file: the world is saved to it on SIGTERM/SIGINT and resumed from it at start when it "
+                 "exists (then --scene is only used when it does not)");
+  auto* checkpoint_option =
+      app.add_option("--checkpoint-interval", checkpoint_interval,
+                     "Also save the state file every this many seconds, so a crash loses at most that much")
+          ->check(CLI::Range(0.01, 86400.0));
+  auto* record_option =
+      app.add_option("--record", record_path, "Journal every command with its tick to this file, for --replay");
+  auto* replay_option = app.add_option("--replay", replay_path,
+                                       "Replay a journal made by --record (from its start; --scene must be the "
+                                       "recorded scene when given), then serve the world paused where it ended");
+  checkpoint_option->needs("--state");
+  record_option->excludes(replay_option);
   app.set_version_flag("--version", kVersion);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    // --help and --version end here with 0; a usage error is 2, like tumble's.
+    return app.exit(error) == 0 ? 0 : 2;
+  }
 
   spdlog::set_level(spdlog::level::from_str(log_level));
   spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%-5l%$ [%n] %v");
@@ -119,25 +147,103 @@ int main(int argc, char** argv) {
     log->info("only an observer token is set: clients may watch the world but none may control it");
   }
 
-  tumble::v1::Scene scene;
-  if (scene_path.empty()) {
-    scene.mutable_gravity()->set_y(-9.81);
-    log->warn("no --scene given: starting with an empty world");
-  } else if (auto status = tumble::sim::load_scene_file(scene_path, &scene); !status.ok()) {
-    log->error("cannot load the scene: {}", status.message());
-    return 1;
-  }
-
   tumble::sim::SimConfig sim_config;
   sim_config.tick_rate_hz = tick_rate;
   sim_config.max_bodies = max_bodies;
+
+  // Where the world starts: a journal's start, the state file, or the scene.
+  tumble::v1::Scene scene;
+  if (!scene_path.empty()) {
+    if (auto status = tumble::sim::load_scene_file(scene_path, &scene); !status.ok()) {
+      log->error("cannot load the scene: {}", status.message());
+      return 1;
+    }
+  } else {
+    scene.mutable_gravity()->set_y(-9.81);
+  }
+  tumble::sim::JournalReader replay;
+  tumble::v1::WorldState saved;
+  bool resume = false;
+  std::string origin = scene_path.empty() ? std::string("no scene") : scene_path;
+  if (!replay_path.empty()) {
+    if (auto status = replay.open(replay_path); !status.ok()) {
+      log->error("cannot replay: {}", status.message());
+      return 1;
+    }
+    const tumble::v1::JournalHeader& header = replay.header();
+    if (header.has_state()) {
+      saved = header.state();
+      resume = true;
+    } else {
+      if (!scene_path.empty() && header.scene().SerializeAsString() != scene.SerializeAsString()) {
+        log->error("cannot replay {}: it was recorded with another scene than {}", replay_path, scene_path);
+        return 1;
+      }
+      scene = header.scene();
+      sim_config.tick_rate_hz = header.tick_rate_hz();
+    }
+    origin = "the start of " + replay_path;
+  } else if (!state_path.empty()) {
+    bool exists = false;
+    if (auto status = tumble::sim::read_state_file(state_path, &saved, &exists); !status.ok()) {
+      log->error("cannot resume: {}", status.message());
+      return 1;
+    }
+    resume = exists;
+    if (exists) origin = state_path;
+  }
+  if (!resume && scene_path.empty() && replay_path.empty()) log->warn("no --scene given: starting with an empty world");
+
   std::unique_ptr<tumble::sim::Simulation> sim;
-  if (auto status = tumble::sim::Simulation::create(scene, sim_config, &sim); !status.ok()) {
+  if (resume) {
+    if (auto status = tumble::sim::Simulation::create_from_state(saved, sim_config, &sim); !status.ok()) {
+      log->error("cannot resume from {}: {}", origin, status.message());
+      return 1;
+    }
+  } else if (auto status = tumble::sim::Simulation::create(scene, sim_config, &sim); !status.ok()) {
     log->error("invalid scene {}: {}", scene_path, status.message());
     return 1;
   }
-  log->info("tumbled {}: {} bodies from {}", kVersion, sim->body_count(),
-            scene_path.empty() ? std::string("no scene") : scene_path);
+  log->info("tumbled {}: {} bodies from {}, at tick {}{}", kVersion, sim->body_count(), origin, sim->tick(),
+            sim->paused() ? ", paused" : "");
+
+  if (!replay_path.empty()) {
+    tumble::sim::ReplaySummary summary;
+    if (auto status = tumble::sim::replay_journal(replay, *sim, &summary); !status.ok()) {
+      log->error("replay of {} failed after {} commands: {}", replay_path, summary.commands, status.message());
+      return 1;
+    }
+    log->info("replayed {} commands of {} to tick {}{}; paused there", summary.commands, replay_path,
+              summary.end_tick, summary.complete ? "" : " (the journal was cut short: its run was killed)");
+  }
+
+  tumble::sim::JournalWriter journal;
+  if (!record_path.empty()) {
+    tumble::v1::JournalHeader header;
+    header.set_format_version(tumble::sim::kJournalFormat);
+    header.set_server_version(kVersion);
+    header.set_tick_rate_hz(sim->tick_rate_hz());
+    if (resume) {
+      sim->capture(header.mutable_state());
+    } else {
+      *header.mutable_scene() = scene;
+    }
+    if (auto status = journal.open(record_path, header); !status.ok()) {
+      log->error("cannot record: {}", status.message());
+      return 1;
+    }
+    sim->set_journal(&journal);
+    log->info("recording commands to {}", record_path);
+  }
+
+  std::unique_ptr<tumble::sim::StateSaver> saver;
+  if (!state_path.empty() && checkpoint_interval > 0) {
+    saver = std::make_unique<tumble::sim::StateSaver>(state_path);
+    sim->set_checkpoints(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(checkpoint_interval)),
+                         [&saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
+    log->info("checkpointing the world to {} every {} s", state_path, checkpoint_interval);
+  }
 
   boost::asio::io_context io;
   tumble::net::ServerConfig server_config;
@@ -177,6 +283,17 @@ int main(int argc, char** argv) {
   sim->start();
   io.run();
   sim->stop();
+  if (saver) saver->stop();  // a late checkpoint must not land after the final save
   log->info("stopped at tick {} ({} overruns)", sim->tick(), sim->overruns());
+  if (!journal.status().ok()) log->error("the journal is incomplete: {}", journal.status().message());
+  if (!state_path.empty()) {
+    tumble::v1::WorldState state;
+    sim->capture(&state);
+    if (auto status = tumble::sim::write_state_file(state_path, state); !status.ok()) {
+      log->error("the world was not saved: {}", status.message());
+      return 1;
+    }
+    log->info("saved the world at tick {} to {}", state.tick(), state_path);
+  }
   return 0;
 }

@@ -6,6 +6,7 @@
 #include "sim/body_spec.h"
 #include "sim/log.h"
 #include "sim/request_check.h"
+#include "sim/world_state.h"
 
 namespace tumble::sim {
 namespace {
@@ -79,6 +80,83 @@ Status Simulation::create(const tumble::v1::Scene& scene, const SimConfig& confi
   return {};
 }
 
+Status Simulation::create_from_state(const tumble::v1::WorldState& state, const SimConfig& config,
+                                     std::unique_ptr<Simulation>* out) {
+  if (!std::isfinite(state.tick_rate_hz()) || state.tick_rate_hz() < kMinTickRateHz ||
+      state.tick_rate_hz() > kMaxTickRateHz) {
+    return Status::error("tick_rate_hz: must be from 1 to 10000 Hz");
+  }
+  if (!std::isfinite(state.sim_time()) || state.sim_time() < 0) {
+    return Status::error("sim_time: must be a finite number >= 0");
+  }
+  if (static_cast<std::uint64_t>(state.bodies_size()) > config.max_bodies) {
+    return Status::error("the saved world has " + std::to_string(state.bodies_size()) + " bodies, more than the " +
+                         std::to_string(config.max_bodies) + " allowed");
+  }
+  SimConfig resumed = config;
+  resumed.tick_rate_hz = state.tick_rate_hz();
+  std::unique_ptr<Simulation> sim(new Simulation(state.scene(), resumed));
+  BodyDirectory directory;
+  if (Status status = restore_world(state, &sim->world_, &directory, &sim->loads_); !status.ok()) return status;
+  sim->set_directory(std::move(directory));
+  sim->refresh_body_count();
+  // The clock goes on from the saved tick; sim time is counted from there.
+  sim->next_tick_ = state.tick();
+  sim->rate_since_tick_ = state.tick();
+  sim->rate_since_time_ = state.sim_time();
+  sim->tick_.store(state.tick(), std::memory_order_relaxed);
+  sim->sim_time_.store(state.sim_time(), std::memory_order_relaxed);
+  sim->paused_ = state.paused();
+  sim->paused_flag_.store(state.paused(), std::memory_order_relaxed);
+  *out = std::move(sim);
+  return {};
+}
+
+void Simulation::capture(tumble::v1::WorldState* state) const {
+  state->Clear();
+  capture_world(world_, directory_, loads_, state);
+  state->set_tick(next_tick_);
+  state->set_sim_time(time_of(next_tick_));
+  state->set_tick_rate_hz(tick_rate_hz());
+  state->set_paused(paused_);
+  *state->mutable_scene() = scene_;
+}
+
+void Simulation::set_journal(JournalWriter* journal) { journal_ = journal; }
+
+void Simulation::set_checkpoints(std::chrono::steady_clock::duration interval,
+                                 std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink) {
+  checkpoint_interval_ = interval;
+  checkpoint_sink_ = std::move(sink);
+  next_checkpoint_ = Clock::now() + interval;
+}
+
+void Simulation::record(const ClientMessage& message) {
+  if (journal_ == nullptr) return;
+  switch (message.kind_case()) {
+    case ClientMessage::kListBodies:
+    case ClientMessage::kGetStats:
+      return;  // they read the world and change nothing
+    default:
+      break;
+  }
+  journal_->record(next_tick_, message);
+  journal_dirty_ = true;
+}
+
+void Simulation::checkpoint_if_due() {
+  if (!checkpoint_sink_) return;
+  const Clock::time_point now = Clock::now();
+  if (now < next_checkpoint_) return;
+  next_checkpoint_ = now + checkpoint_interval_;
+  // A paused, untouched world is already on disk.
+  if (world_version_ == checkpointed_version_) return;
+  checkpointed_version_ = world_version_;
+  auto state = std::make_shared<tumble::v1::WorldState>();
+  capture(state.get());
+  checkpoint_sink_(std::move(state));
+}
+
 Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
     : config_(config), scene_(scene), dt_(1.0 / config.tick_rate_hz), tick_rate_hz_(config.tick_rate_hz) {}
 
@@ -95,7 +173,7 @@ Status Simulation::build_world(physics::World* world, BodyDirectory* directory) 
       return Status::error(where + ".name: '" + spec.name() + "' is used by another body");
     }
     const physics::BodyId id = world->add_body(desc);
-    directory->add(id, BodyEntry{spec.name(), spec.shape(), desc.mass_properties.mass});
+    directory->add(id, BodyEntry{spec.name(), spec.shape(), world->mass(id)});
   }
   return {};
 }
@@ -138,6 +216,7 @@ void Simulation::stop() {
   }
   run_wakeup_.notify_all();
   if (thread_.joinable()) thread_.join();
+  if (journal_ != nullptr) journal_->finish(next_tick_);
 }
 
 void Simulation::submit(Command command) {
@@ -173,6 +252,7 @@ void Simulation::run_loop() {
   while (!stopping_) {
     lock.unlock();
     run_tick();
+    checkpoint_if_due();
     ++ticks_since_start;
     if (dt_ != loop_dt) {
       // SetTickRate: count deadlines afresh at the new period from the end of this pass.
@@ -202,8 +282,16 @@ void Simulation::run_loop() {
 void Simulation::run_tick() {
   Clock::time_point started = Clock::now();
   commands_.drain(draining_);
-  for (Command& command : draining_) apply(command);
+  for (Command& command : draining_) {
+    record(command.message);
+    apply(command);
+  }
+  if (!draining_.empty()) ++world_version_;
   draining_.clear();
+  if (journal_dirty_) {
+    journal_->flush();
+    journal_dirty_ = false;
+  }
 
   if (!paused_) {
     advance();
@@ -218,7 +306,7 @@ void Simulation::run_tick() {
       const Clock::time_point now = Clock::now();
       timing_.record_step(milliseconds(now - started));
       started = now;
-    } while (paused_ && steps_left_ > 0 && started < budget_end);
+    } while (paused_ && steps_left_ > 0 && started < budget_end && !replaying_);
   } else {
     // No step: show edits at once, and serve a new subscriber's first frame.
     if (edited_ && tracking_sleep_) track_sleep(next_tick_);
@@ -231,6 +319,7 @@ void Simulation::run_tick() {
 }
 
 void Simulation::advance() {
+  ++world_version_;
   loads_.apply(world_);
   world_.step(dt_);
   ++next_tick_;
@@ -451,7 +540,7 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   const physics::BodyId id = world_.add_body(*desc);
   {
     std::lock_guard lock(directory_mutex_);
-    directory_.add(id, BodyEntry{spec.name(), spec.shape(), desc->mass_properties.mass});
+    directory_.add(id, BodyEntry{spec.name(), spec.shape(), world_.mass(id)});
   }
   refresh_body_count();
   const std::uint64_t tick = edit_tick();

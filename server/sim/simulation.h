@@ -41,11 +41,13 @@
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
 #include "sim/command.h"
+#include "sim/journal.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
 #include "sim/tick_timing.h"
 #include "sim/world_event.h"
 #include "tumble/v1/scene.pb.h"
+#include "tumble/v1/state.pb.h"
 
 namespace tumble::sim {
 
@@ -65,6 +67,11 @@ class Simulation {
   // valid world or holds more than max_bodies bodies.
   static Status create(const tumble::v1::Scene& scene, const SimConfig& config,
                        std::unique_ptr<Simulation>* out);
+  // Resumes a saved world exactly (world_state.h): bodies, loads, tick, sim
+  // time, tick rate (config.tick_rate_hz is ignored) and paused; Reset goes
+  // back to the scene saved with it.
+  static Status create_from_state(const tumble::v1::WorldState& state, const SimConfig& config,
+                                  std::unique_ptr<Simulation>* out);
   ~Simulation();
 
   Simulation(const Simulation&) = delete;
@@ -78,9 +85,28 @@ class Simulation {
   // while set_sleep_events_wanted(true).
   void set_event_listener(WorldEventListener listener);
 
+  // Set before start(): every request that can change the world is
+  // recorded with the tick it is executed at, and the end of the run when
+  // the simulation stops. Not owned; must outlive the simulation.
+  void set_journal(JournalWriter* journal);
+
+  // Set before start(): every `interval` of wall time (while the world
+  // changes) the sim thread captures the world and hands it to `sink`, which
+  // must not block (e.g. StateSaver::offer).
+  void set_checkpoints(std::chrono::steady_clock::duration interval,
+                       std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink);
+
+  // While replaying, a Step advances one tick per run_tick() instead of as
+  // many as one tick period of wall time allows, so that a replay executes
+  // each recorded command at the same tick as the recorded run did.
+  void set_replaying(bool replaying) { replaying_ = replaying; }
+
+  // The whole world as it is now. On the sim thread, or while not started.
+  void capture(tumble::v1::WorldState* state) const;
+
   // Starts the sim thread.
   void start();
-  // Stops and joins the sim thread. Idempotent.
+  // Stops and joins the sim thread, and ends the journal. Idempotent.
   void stop();
 
   // Queues a checked request; it is applied at the start of the next tick
@@ -170,6 +196,9 @@ class Simulation {
   ServerMessage reset(const ClientMessage& message);
   ServerMessage set_tick_rate(const ClientMessage& message);
   ServerMessage stats(const ClientMessage& message) const;
+  // Journal (set_journal) and checkpoints (set_checkpoints).
+  void record(const ClientMessage& message);
+  void checkpoint_if_due();
 
   const SimConfig config_;
   const tumble::v1::Scene scene_;  // the world Reset goes back to
@@ -192,6 +221,14 @@ class Simulation {
   std::vector<std::uint8_t> awake_;     // by body id, while tracking_sleep_: 1 when awake at the last scan
   WorldEvents events_;                  // of the tick being made
   TickTiming timing_;
+  bool replaying_ = false;
+  JournalWriter* journal_ = nullptr;
+  bool journal_dirty_ = false;          // recorded since the last flush
+  std::chrono::steady_clock::duration checkpoint_interval_{};
+  std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> checkpoint_sink_;
+  std::chrono::steady_clock::time_point next_checkpoint_{};
+  std::uint64_t checkpointed_version_ = 0;  // world_version_ at the last checkpoint
+  std::uint64_t world_version_ = 1;         // grows with every step and every executed command
   SnapshotListener listener_;
   WorldEventListener event_listener_;
 

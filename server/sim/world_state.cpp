@@ -120,7 +120,7 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
                            to_vec3(saved.linear_momentum()), to_vec3(saved.angular_momentum()), !saved.asleep(),
                            saved.sleep_time());
     }
-    directory->add(saved.id(), BodyEntry{spec.name(), spec.shape(), spec.mass()});
+    directory->add(saved.id(), BodyEntry{spec.name(), spec.shape(), world->mass(saved.id())});
   }
   world->set_next_body_id(state.next_body_id());
 

@@ -47,9 +47,11 @@ TEST(Tumbled, UnreadableSceneNamesThePath) {
 }
 
 TEST(Tumbled, BadFlagsAreUsageErrors) {
-  EXPECT_NE(run_command({tumbled_path(), "--listen", "no-port"}).exit_code, 0);
-  EXPECT_NE(run_command({tumbled_path(), "--tick-rate", "fast"}).exit_code, 0);
-  EXPECT_NE(run_command({tumbled_path(), "--log-level", "loud"}).exit_code, 0);
+  EXPECT_EQ(run_command({tumbled_path(), "--listen", "no-port"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--tick-rate", "fast"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--log-level", "loud"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--no-such-flag"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--version"}).exit_code, 0);
 }
 
 TEST(Tumbled, AddressInUseIsAClearError) {

@@ -1,0 +1,53 @@
+#include "sim/state_saver.h"
+
+#include "sim/log.h"
+#include "sim/state_file.h"
+
+namespace tumble::sim {
+
+StateSaver::StateSaver(std::string path) : path_(std::move(path)), thread_([this] { run(); }) {}
+
+StateSaver::~StateSaver() { stop(); }
+
+void StateSaver::offer(std::shared_ptr<const tumble::v1::WorldState> state) {
+  {
+    std::lock_guard lock(mutex_);
+    waiting_ = std::move(state);
+  }
+  wakeup_.notify_one();
+}
+
+void StateSaver::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wakeup_.notify_one();
+  if (thread_.joinable()) thread_.join();
+}
+
+std::uint64_t StateSaver::written() const {
+  std::lock_guard lock(mutex_);
+  return written_;
+}
+
+void StateSaver::run() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wakeup_.wait(lock, [this] { return stopping_ || waiting_ != nullptr; });
+    if (waiting_ == nullptr) return;  // stopping, nothing left to write
+    std::shared_ptr<const tumble::v1::WorldState> state = std::move(waiting_);
+    waiting_ = nullptr;
+    lock.unlock();
+    const Status status = write_state_file(path_, *state);
+    if (status.ok()) {
+      sim_log().debug("checkpoint of tick {} written to {}", state->tick(), path_);
+    } else {
+      sim_log().error("checkpoint of tick {} not written: {}", state->tick(), status.message());
+    }
+    lock.lock();
+    if (status.ok()) ++written_;
+  }
+}
+
+}  // namespace tumble::sim

@@ -1,0 +1,205 @@
+// A world that survives restarts, against the real tumbled: --state saves
+// it on SIGTERM and resumes it exactly; --checkpoint-interval bounds what a
+// kill -9 loses; --record and --replay reproduce a run bit for bit.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "sim/state_file.h"
+#include "tumbled_process.h"
+
+namespace tumble::test {
+namespace {
+
+using nlohmann::json;
+
+// Zero gravity: every motion comes from the commands alone.
+const char* kFloating = R"({"gravity": [0, 0, 0], "bodies": [
+    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
+    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [0, 0, 50]}]})";
+
+// Contacts, sleep, friction and bounces: what a replay must reproduce.
+const char* kPile = R"({"bodies": [
+    {"name": "ground", "static": true, "shape": {"plane": {}}},
+    {"name": "a", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 1, "position": [0, 0.5, 0]},
+    {"name": "b", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 1, "position": [0.2, 1.5, 0]},
+    {"name": "c", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 1, "position": [-0.1, 2.5, 0.1]},
+    {"name": "ball", "shape": {"sphere": {"radius": 0.3}}, "mass": 1, "restitution": 0.7, "position": [3, 4, 0]},
+    {"name": "pill", "shape": {"capsule": {"radius": 0.2, "half_height": 0.4}}, "mass": 1, "position": [-3, 1, 0]}]})";
+
+json run_json(const TumbledProcess& server, std::vector<std::string> args) {
+  args.insert(args.begin(), "--json");
+  const CommandResult result = server.cli(args);
+  EXPECT_EQ(result.exit_code, 0) << "tumble " << args[1] << ": " << result.err;
+  const json parsed = json::parse(result.out, nullptr, false);
+  EXPECT_FALSE(parsed.is_discarded()) << "stdout: " << result.out;
+  return parsed;
+}
+
+void run_ok(const TumbledProcess& server, const std::vector<std::string>& args) {
+  const CommandResult result = server.cli(args);
+  ASSERT_EQ(result.exit_code, 0) << "tumble " << args[0] << ": " << result.err;
+}
+
+const json& body(const json& list, const std::string& name) {
+  for (const json& b : list["bodies"]) {
+    if (b["name"] == name) return b;
+  }
+  ADD_FAILURE() << "no body " << name;
+  static const json none;
+  return none;
+}
+
+// SIGTERM, and the exit code.
+int terminate(TumbledProcess& server) {
+  server.process().signal(SIGTERM);
+  return server.process().wait(std::chrono::seconds(30)).value_or(-1);
+}
+
+TEST(Persistence, SigtermSavesTheWorldAndAStartResumesItExactly) {
+  const std::string state = make_temp_dir() + "/world.state";
+  json before;
+  {
+    TumbledProcess saving(kFloating, {"--state", state});
+    ASSERT_TRUE(saving.started()) << saving.log();
+    run_ok(saving, {"impulse", "crate", "--impulse", "2", "0", "0"});
+    run_ok(saving, {"force", "ball", "--force", "1", "0", "0", "--persistent"});
+    run_ok(saving, {"spawn", "extra", "--sphere", "0.2", "--mass", "3", "--at", "0", "10", "0", "--velocity", "0", "1", "0"});
+    run_ok(saving, {"remove", "extra"});  // its id must stay unused after the restart
+    run_ok(saving, {"pause"});
+    before = run_json(saving, {"bodies"});
+    EXPECT_EQ(terminate(saving), 0) << saving.log();
+    EXPECT_NE(saving.log().find("saved the world at tick " + std::to_string(before["tick"].get<std::uint64_t>())),
+              std::string::npos)
+        << saving.log();
+  }
+  TumbledProcess resumed(R"({"bodies": []})", {"--state", state});
+  ASSERT_TRUE(resumed.started()) << resumed.log();
+  const json after = run_json(resumed, {"bodies"});
+  // The same tick and every number the same to the last bit (the CLI prints
+  // doubles with all 17 digits).
+  EXPECT_EQ(after["tick"], before["tick"]);
+  EXPECT_EQ(after["bodies"], before["bodies"]);
+  EXPECT_TRUE(run_json(resumed, {"stats"})["paused"].get<bool>());
+
+  // The persistent force came back too: 240 ticks of 1 N on 1 kg add 1 m/s.
+  run_ok(resumed, {"step", "240"});
+  const json later = run_json(resumed, {"bodies"});
+  EXPECT_NEAR(body(later, "ball")["linear_velocity"][0].get<double>() -
+                  body(before, "ball")["linear_velocity"][0].get<double>(),
+              1.0, 1e-9);
+  EXPECT_NEAR(body(later, "crate")["position"][0].get<double>() - body(before, "crate")["position"][0].get<double>(),
+              1.0, 1e-9);
+  // A new body gets a fresh id, not the removed one's.
+  const json spawned = run_json(resumed, {"spawn", "next", "--sphere", "0.2", "--mass", "1", "--at", "5", "5", "5"});
+  EXPECT_EQ(spawned["body_id"].get<std::uint32_t>(), 3u);
+}
+
+TEST(Persistence, CheckpointsBoundWhatAKillLoses) {
+  const std::string state = make_temp_dir() + "/world.state";
+  TumbledProcess server(kFloating, {"--state", state, "--checkpoint-interval", "0.25"});
+  ASSERT_TRUE(server.started()) << server.log();
+  run_ok(server, {"impulse", "crate", "--impulse", "2", "0", "0"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const std::uint64_t seen = run_json(server, {"stats"})["tick"].get<std::uint64_t>();
+  server.process().signal(SIGKILL);
+  ASSERT_EQ(server.process().wait(std::chrono::seconds(10)), 128 + SIGKILL);
+
+  TumbledProcess resumed(R"({"bodies": []})", {"--state", state});
+  ASSERT_TRUE(resumed.started()) << resumed.log();
+  const json list = run_json(resumed, {"bodies"});
+  const std::uint64_t tick = list["tick"].get<std::uint64_t>();
+  // At most one interval (60 ticks) older than what was seen before the kill,
+  // plus a generous allowance for a loaded machine; never nothing.
+  EXPECT_GT(tick + 240, seen) << "resumed at tick " << tick << ", saw tick " << seen << " before the kill";
+  EXPECT_GT(tick, 0u);
+  // The crate is on its track: x = 1 m/s * (time since the impulse).
+  const json& crate = body(list, "crate");
+  EXPECT_DOUBLE_EQ(crate["linear_velocity"][0].get<double>(), 1.0);
+  EXPECT_GT(crate["position"][0].get<double>(), 0.5);
+}
+
+TEST(Persistence, AReplayOfARecordedRunEndsInTheSameWorldBitForBit) {
+  const std::string dir = make_temp_dir();
+  const std::string recorded_state = dir + "/recorded.state";
+  const std::string journal = dir + "/run.journal";
+  {
+    TumbledProcess server(kPile, {"--record", journal, "--state", recorded_state});
+    ASSERT_TRUE(server.started()) << server.log();
+    // Commands of every kind, at whatever ticks the machine's timing gives.
+    run_ok(server, {"force", "c", "--force", "0", "0", "40", "--duration", "0.3"});
+    run_ok(server, {"impulse", "ball", "--impulse", "-3", "0", "0"});
+    run_ok(server, {"spawn", "late", "--box", "0.3", "0.3", "0.3", "--mass", "2", "--at", "0", "6", "0"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    run_ok(server, {"pause"});
+    run_ok(server, {"step", "7"});
+    run_ok(server, {"torque", "pill", "--torque", "0", "2", "0", "--persistent"});
+    run_ok(server, {"set", "a", "--velocity", "0", "0", "1"});
+    run_ok(server, {"resume"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    run_ok(server, {"remove", "b"});
+    run_ok(server, {"clear", "pill"});
+    run_ok(server, {"tick-rate", "120"});
+    run_ok(server, {"impulse", "a", "--impulse", "1", "0", "0", "--at", "0", "1", "0"});
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ASSERT_EQ(terminate(server), 0) << server.log();
+  }
+  const std::string replayed_state = dir + "/replayed.state";
+  TumbledProcess replay(kPile, {"--replay", journal, "--state", replayed_state});
+  ASSERT_TRUE(replay.started()) << replay.log();
+  EXPECT_NE(replay.log().find("replayed 12 commands"), std::string::npos) << replay.log();
+  ASSERT_EQ(terminate(replay), 0) << replay.log();
+
+  tumble::v1::WorldState recorded;
+  tumble::v1::WorldState replayed;
+  bool exists = false;
+  ASSERT_TRUE(sim::read_state_file(recorded_state, &recorded, &exists).ok());
+  ASSERT_TRUE(sim::read_state_file(replayed_state, &replayed, &exists).ok());
+  // The replay stops paused where the run stopped; all else must be equal.
+  EXPECT_TRUE(replayed.paused());
+  replayed.set_paused(recorded.paused());
+  EXPECT_EQ(replayed.tick(), recorded.tick());
+  ASSERT_EQ(replayed.bodies_size(), recorded.bodies_size());
+  EXPECT_EQ(replayed.SerializeAsString(), recorded.SerializeAsString())
+      << "recorded:\n" << recorded.DebugString() << "\nreplayed:\n" << replayed.DebugString();
+}
+
+TEST(Persistence, BadFilesAndFlagsAreClearErrors) {
+  const std::string garbage = make_temp_dir() + "/garbage.state";
+  std::ofstream(garbage) << "{\"not\": \"a state\"}";
+
+  CommandResult result = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--state", garbage});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("not a tumble state file"), std::string::npos) << result.err;
+
+  result = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--checkpoint-interval", "1"});
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--state"), std::string::npos) << result.err;
+
+  result = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--replay", garbage});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("not a tumble journal"), std::string::npos) << result.err;
+}
+
+TEST(Persistence, AReplayRefusesAnotherScene) {
+  const std::string dir = make_temp_dir();
+  const std::string journal = dir + "/run.journal";
+  {
+    TumbledProcess server(kFloating, {"--record", journal});
+    ASSERT_TRUE(server.started()) << server.log();
+    ASSERT_EQ(terminate(server), 0);
+  }
+  const std::string other = dir + "/other.json";
+  std::ofstream(other) << kPile;
+  const CommandResult result =
+      run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--replay", journal, "--scene", other});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("recorded with another scene"), std::string::npos) << result.err;
+}
+
+}  // namespace
+}  // namespace tumble::test
