@@ -1,0 +1,59 @@
+// Scene layouts of the engine comparison. Each scene is described once here,
+// engine-neutrally, and every engine builds its world from the same
+// description, so the bodies, sizes, masses, inertias, positions, friction
+// and time step are identical across engines.
+//
+// Every scene has a ground: the static plane y = 0, solid below. Units are
+// SI, +Y is up.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tumble::bench {
+
+using Vec3 = Eigen::Vector3d;
+
+inline constexpr double kTimeStep = 1.0 / 60.0;  // s, one step of every engine
+inline constexpr double kGravity = 9.81;          // m/s^2, along -y
+inline constexpr double kFriction = 0.5;          // Coulomb coefficient of every contact
+inline constexpr int kSolverIterations = 10;      // Bullet's and ODE's solver iterations
+
+enum class BodyShape { box, sphere };
+
+// One dynamic body, starting at rest and unrotated. A box uses half_extents,
+// a sphere radius. inertia holds the principal moments about the centre of
+// mass (kg m^2) of the uniform solid, along the body axes.
+struct DynamicBody {
+  BodyShape shape = BodyShape::box;
+  Vec3 half_extents = Vec3::Zero();
+  double radius = 0;
+  double mass = 0;
+  Vec3 inertia = Vec3::Zero();
+  Vec3 position = Vec3::Zero();
+};
+
+// A static, unrotated box (the walls of the spheres scene).
+struct StaticBox {
+  Vec3 half_extents = Vec3::Zero();
+  Vec3 position = Vec3::Zero();
+};
+
+// Everything an engine builds, plus the number of steps to run.
+struct Scene {
+  std::string name;
+  std::vector<DynamicBody> bodies;
+  std::vector<StaticBox> walls;
+  int steps = 0;
+};
+
+// The scene names, in the order they run by default: pile, pyramid, spheres.
+const std::vector<std::string>& scene_names();
+
+// Builds a named scene (one of scene_names()). smoke gives a small version of
+// it (a few dozen bodies, 10 steps) for a quick check that everything runs.
+Scene make_scene(std::string_view name, bool smoke);
+
+}  // namespace tumble::bench
