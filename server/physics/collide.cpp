@@ -8,20 +8,7 @@
 namespace tumble::physics {
 namespace {
 
-// Position in the pair order of collide_pairs.h; none sorts last.
-int rank(ShapeType type) {
-  switch (type) {
-    case ShapeType::sphere: return 0;
-    case ShapeType::capsule: return 1;
-    case ShapeType::box: return 2;
-    case ShapeType::convex_hull: return 3;
-    case ShapeType::plane: return 4;
-    case ShapeType::none: return 5;
-  }
-  return 5;
-}
-
-// Pairs in rank order: rank(a) <= rank(b).
+// Pairs in collide_order: collide_order(a) <= collide_order(b).
 void collide_ordered(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,
                      Manifold& m) {
   m.point_count = 0;
@@ -73,6 +60,18 @@ void collide_ordered(const Shape& a, const Transform& ta, const Shape& b, const 
 
 }  // namespace
 
+int collide_order(ShapeType type) {
+  switch (type) {
+    case ShapeType::sphere: return 0;
+    case ShapeType::capsule: return 1;
+    case ShapeType::box: return 2;
+    case ShapeType::convex_hull: return 3;
+    case ShapeType::plane: return 4;
+    case ShapeType::none: return 5;
+  }
+  return 5;
+}
+
 void world_plane(const Shape& plane, const Transform& transform, Vec3* normal, double* offset) {
   // n_local . x_local = d with x_local = R^T (x - p) gives (R n) . x = d + (R n) . p.
   *normal = transform.rotation * plane.plane_normal;
@@ -81,7 +80,7 @@ void world_plane(const Shape& plane, const Transform& transform, Vec3* normal, d
 
 void collide(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,
              Manifold& m) {
-  if (rank(a.type) <= rank(b.type)) return collide_ordered(a, ta, b, tb, max_separation, m);
+  if (collide_order(a.type) <= collide_order(b.type)) return collide_ordered(a, ta, b, tb, max_separation, m);
   collide_ordered(b, tb, a, ta, max_separation, m);
   m.normal = -m.normal;
   for (int i = 0; i < m.point_count; ++i) std::swap(m.points[i].point_a, m.points[i].point_b);

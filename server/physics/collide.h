@@ -31,6 +31,11 @@
 
 namespace tumble::physics {
 
+// The order in which collide() pairs shape types: the pair functions take
+// the lower one first (sphere, capsule, box, hull, plane, none). A contact
+// that stores its bodies in this order gets its manifold without a swap.
+int collide_order(ShapeType type);
+
 // Fills manifold (normal from a towards b) for shapes a and b placed by
 // their body-to-world transforms. Planes are static: a plane's transform
 // places the plane given in its body frame. Two planes, or a shape of type

@@ -26,19 +26,6 @@ constexpr double kReuseCosHalfAngle = 0.99996192306417131;
 
 bool is_polyhedron(ShapeType type) { return type == ShapeType::box || type == ShapeType::convex_hull; }
 
-// Pair order of collide(): the shape of body_a comes first.
-int shape_order(ShapeType type) {
-  switch (type) {
-    case ShapeType::sphere: return 0;
-    case ShapeType::capsule: return 1;
-    case ShapeType::box: return 2;
-    case ShapeType::convex_hull: return 3;
-    case ShapeType::plane: return 4;
-    case ShapeType::none: return 5;
-  }
-  return 5;
-}
-
 // Height of the lowest corner of box above the plane n.p = offset.
 double lowest_height(const Aabb& box, const Vec3& n, double offset) {
   const Vec3 center = 0.5 * (box.min + box.max);
@@ -67,7 +54,7 @@ bool World::has_contact(std::uint32_t a, std::uint32_t b) const {
 }
 
 void World::create_contact(std::uint32_t a, std::uint32_t b) {
-  if (shape_order(shapes_[a].type) > shape_order(shapes_[b].type)) std::swap(a, b);
+  if (collide_order(shapes_[a].type) > collide_order(shapes_[b].type)) std::swap(a, b);  // body_a first
   std::uint32_t slot;
   if (free_contacts_.empty()) {
     slot = static_cast<std::uint32_t>(contacts_.size());
