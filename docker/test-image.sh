@@ -1,0 +1,314 @@
+#!/usr/bin/env bash
+# The image test. Builds docker/Dockerfile with podman (no Docker engine and
+# no registry needed: the Debian base images are made here by debootstrap),
+# runs the image with a published port and a named volume, and checks it from
+# the host with the host's tumble CLI:
+#   1. tumbled answers through the published port, runs as uid 10001 as PID 1,
+#      and the image's HEALTHCHECK passes;
+#   2. an impulse moves the crate;
+#   3. `podman stop` (SIGTERM) ends the container with exit code 0;
+#   4. persistence: a new container on the same volume resumes the world where
+#      the first one stopped (the tick goes on, the crate keeps its velocity
+#      and is where that velocity has taken it).
+# Then prints the runtime image size and the build time.
+#
+#   docker/test-image.sh [PATH/TO/tumble]   (or TUMBLE_CLI; default build/client/cli/tumble)
+#
+# Environment:
+#   WORK        podman's storage and config, the cached base images, logs
+#               (default /tmp/tumble-podman; reused between runs, so only the
+#               first run pays for debootstrap and the build packages)
+#   IMAGE       tag to build (default localhost/tumble:test)
+#   DOCKERFILE  default docker/Dockerfile
+#   MIRROR      Debian mirror for debootstrap (default: the one apt uses)
+#
+# Runs as root (rootful podman; re-runs itself through sudo otherwise) and
+# installs podman, runc, debootstrap and jq with apt-get when they are missing.
+set -Eeuo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+CLI=${1:-${TUMBLE_CLI:-$ROOT/build/client/cli/tumble}}
+WORK=${WORK:-/tmp/tumble-podman}
+IMAGE=${IMAGE:-localhost/tumble:test}
+DOCKERFILE=${DOCKERFILE:-$ROOT/docker/Dockerfile}
+SUITE=bookworm
+RUN_ID=tumble-test-$$
+VOLUME=$RUN_ID-data
+# A token for this run: the container and the host CLI both get it through
+# TUMBLE_TOKEN, which checks that the variable reaches tumbled (and the
+# HEALTHCHECK's CLI) inside the container.
+TOKEN=test-token-$$-$RANDOM
+
+say() { echo "test-image: $*" >&2; }
+die() { echo "test-image: FAIL: $*" >&2; exit 1; }
+trap 'echo "test-image: FAIL: unexpected error at line $LINENO: $BASH_COMMAND" >&2' ERR
+
+[[ -x $CLI ]] || die "the tumble CLI '$CLI' is not an executable (build it, or pass its path as \$1 or TUMBLE_CLI)"
+CLI=$(cd "$(dirname "$CLI")" && pwd)/$(basename "$CLI")
+
+if [[ $(id -u) -ne 0 ]]; then
+  command -v sudo >/dev/null || die "needs root for rootful podman (and sudo is not installed)"
+  exec sudo WORK="$WORK" IMAGE="$IMAGE" DOCKERFILE="$DOCKERFILE" ${MIRROR:+MIRROR="$MIRROR"} \
+    "${BASH_SOURCE[0]}" "$CLI"
+fi
+
+# ---- 1. packages ---------------------------------------------------------
+# runc, not crun: crun 1.8.1 (Debian 12) refuses cgroup-v1/hybrid hosts.
+packages=(podman runc debootstrap jq)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  say "installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -q >/dev/null
+  apt-get install -y -q "${missing[@]}" >/dev/null || die "apt-get install ${missing[*]} failed"
+fi
+
+# ---- 2. private podman config under $WORK --------------------------------
+# Nothing is written to /var/lib/containers, and two runs never share a lock
+# with anyone else's podman.
+mkdir -p "$WORK"
+exec 9>"$WORK/lock"
+flock -w 3600 9 || die "another image test has held $WORK/lock for an hour"
+
+cat > "$WORK/storage.conf" <<EOF
+[storage]
+driver = "overlay"
+runroot = "$WORK/runroot"
+graphroot = "$WORK/storage"
+EOF
+# podman's default rlimits for root (nofile and nproc 1048576) need
+# CAP_SYS_RESOURCE; cap them at what this process may actually set.
+NOFILE=$(ulimit -Hn); [[ $NOFILE == unlimited ]] && NOFILE=1048576
+NPROC=$(ulimit -Hu);  [[ $NPROC == unlimited ]] && NPROC=1048576
+PIDMAX=$(cat /proc/sys/kernel/pid_max)
+((NPROC > PIDMAX)) && NPROC=$PIDMAX   # podman lowers its own nproc to pid_max
+cat > "$WORK/containers.conf" <<EOF
+[containers]
+default_capabilities = ["CHOWN","DAC_OVERRIDE","FOWNER","FSETID","KILL","NET_BIND_SERVICE","SETFCAP","SETGID","SETPCAP","SETUID","SYS_CHROOT"]
+default_sysctls = ["net.ipv4.ping_group_range=0 0"]
+default_ulimits = ["nofile=$NOFILE:$NOFILE", "nproc=$NPROC:$NPROC"]
+[engine]
+runtime = "runc"
+EOF
+export CONTAINERS_STORAGE_CONF=$WORK/storage.conf CONTAINERS_CONF=$WORK/containers.conf
+
+# ---- 3. base images without a registry -----------------------------------
+# debootstrap -> podman import, tagged docker.io/library/debian:bookworm and
+# :bookworm-slim so the Dockerfile's unmodified FROM lines resolve locally.
+# The slim one is made the way Debian's slim images are: the same minbase
+# tree without docs, man pages and translations, and a dpkg config that
+# keeps them out of later installs.
+import_rootfs() {  # DIR TAG
+  tar -C "$1" --numeric-owner --exclude='./dev/*' -c . \
+    | podman import -q --change 'CMD ["/bin/bash"]' - "docker.io/library/debian:$2" >/dev/null
+  podman tag "docker.io/library/debian:$2" "localhost/debian:$2"
+}
+
+make_base_images() {
+  local mirror=${MIRROR:-}
+  # The mirror apt already uses (deb822 sources first, then sources.list).
+  [[ -n $mirror ]] || mirror=$(awk '/^URIs:/{print $2; exit}' /etc/apt/sources.list.d/*.sources 2>/dev/null || true)
+  [[ -n $mirror ]] || mirror=$(awk '$1=="deb"{print $2; exit}' /etc/apt/sources.list /etc/apt/sources.list.d/*.list 2>/dev/null || true)
+  [[ -n $mirror ]] || die "no Debian mirror found in apt's sources; set MIRROR"
+
+  local rootfs=$WORK/rootfs start=$SECONDS
+  rm -rf "$rootfs"
+  say "making the debian:$SUITE base images with debootstrap (a few minutes, once; log: $WORK/debootstrap.log)"
+  debootstrap --variant=minbase "$SUITE" "$rootfs" "$mirror" >"$WORK/debootstrap.log" 2>&1 \
+    || { tail -n 20 "$WORK/debootstrap.log" >&2; die "debootstrap failed"; }
+  rm -rf "$rootfs"/var/cache/apt/archives/*.deb "$rootfs"/var/lib/apt/lists/*
+  : > "$rootfs/etc/hostname"
+  # As in Debian's images: apt keeps no downloaded .debs and fetches no translations.
+  cat > "$rootfs/etc/apt/apt.conf.d/docker-clean" <<'EOF'
+DPkg::Post-Invoke { "rm -f /var/cache/apt/archives/*.deb /var/cache/apt/archives/partial/*.deb /var/cache/apt/*.bin || true"; };
+APT::Update::Post-Invoke { "rm -f /var/cache/apt/archives/*.deb /var/cache/apt/archives/partial/*.deb /var/cache/apt/*.bin || true"; };
+Dir::Cache::pkgcache "";
+Dir::Cache::srcpkgcache "";
+EOF
+  echo 'Acquire::Languages "none";' > "$rootfs/etc/apt/apt.conf.d/docker-no-languages"
+  import_rootfs "$rootfs" "$SUITE"
+
+  cat > "$rootfs/etc/dpkg/dpkg.cfg.d/docker" <<'EOF'
+path-exclude /usr/share/doc/*
+path-include /usr/share/doc/*/copyright
+path-exclude /usr/share/man/*
+path-exclude /usr/share/info/*
+path-exclude /usr/share/locale/*
+path-include /usr/share/locale/locale.alias
+path-exclude /usr/share/lintian/*
+path-exclude /usr/share/linda/*
+EOF
+  find "$rootfs/usr/share/doc" -mindepth 1 ! -type d ! -name copyright -delete
+  find "$rootfs/usr/share/locale" -mindepth 1 ! -type d ! -name locale.alias -delete
+  find "$rootfs/usr/share/doc" "$rootfs/usr/share/locale" -mindepth 1 -type d -empty -delete
+  rm -rf "$rootfs"/usr/share/man/* "$rootfs"/usr/share/info/* "$rootfs"/usr/share/lintian/* "$rootfs"/usr/share/linda/*
+  import_rootfs "$rootfs" "$SUITE-slim"
+  rm -rf "$rootfs"
+  say "base images made in $((SECONDS - start)) s"
+}
+
+if podman image exists "docker.io/library/debian:$SUITE" \
+   && podman image exists "docker.io/library/debian:$SUITE-slim"; then
+  say "base images debian:$SUITE and :$SUITE-slim already in $WORK"
+else
+  make_base_images
+fi
+
+# ---- 4. build --------------------------------------------------------------
+# --format docker keeps the HEALTHCHECK (the OCI image format has no field for it).
+say "building $IMAGE from $DOCKERFILE (log: $WORK/build.log)"
+build_start=$SECONDS
+podman build --pull=never --format docker -f "$DOCKERFILE" -t "$IMAGE" "$ROOT" >"$WORK/build.log" 2>&1 \
+  || { tail -n 40 "$WORK/build.log" >&2; die "podman build failed (full log: $WORK/build.log)"; }
+BUILD_SECONDS=$((SECONDS - build_start))
+IMAGE_BYTES=$(podman image inspect --format '{{.Size}}' "$IMAGE")
+# Housekeeping, never fatal: tag the build stage's last image (the line
+# "--> ID" before the runtime stage starts) so that its compile stays cached,
+# then prune what earlier builds left untagged (about 15 MB each).
+build_stage=$(awk '/^\[2\/2\] STEP 1\//{exit} /^--> [0-9a-f]+$/{id=$2} END{print id}' "$WORK/build.log")
+if [[ -n $build_stage ]] && podman tag "$build_stage" "$IMAGE-build" 2>/dev/null; then
+  podman image prune -f >/dev/null 2>&1 || true
+fi
+say "built in $BUILD_SECONDS s; image size $IMAGE_BYTES bytes"
+
+# ---- 5. run and check --------------------------------------------------------
+cleanup() {
+  podman rm -f -t 0 "$RUN_ID-1" "$RUN_ID-2" >/dev/null 2>&1 || true
+  podman volume rm -f "$VOLUME" >/dev/null 2>&1 || true
+}
+trap cleanup EXIT
+podman volume create "$VOLUME" >/dev/null
+
+export TUMBLE_TOKEN=$TOKEN
+HOSTPORT=
+# The host's CLI against the published port, never waiting forever.
+cli() { timeout 30 "$CLI" --server "127.0.0.1:$HOSTPORT" --timeout "${CLI_TIMEOUT:-10}" "$@"; }
+
+# podman with its stderr shown only when it fails: where systemd is not
+# running, podman logs an error about the HEALTHCHECK's timer at every run,
+# stop and rm, which is harmless (this test runs the check itself with
+# `podman healthcheck run`).
+pm() {
+  local rc=0
+  podman "$@" 2>"$WORK/podman.err" || rc=$?
+  ((rc == 0)) || cat "$WORK/podman.err" >&2
+  return "$rc"
+}
+
+show_logs() {  # NAME
+  say "---- logs of $1 ----"
+  podman logs "$1" 2>&1 | tail -n 40 >&2 || true
+}
+
+# Starts a container on the volume with the image's default command (a free
+# host port is picked by podman) and waits until the host CLI lists bodies.
+start_container() {  # NAME
+  local name=$1 i
+  pm run -d --name "$name" -p 127.0.0.1::7400 -v "$VOLUME:/data" -e TUMBLE_TOKEN \
+    "$IMAGE" >/dev/null || die "podman run $name failed"
+  HOSTPORT=$(podman port "$name" 7400/tcp | head -n 1 | sed 's/.*://')
+  [[ $HOSTPORT =~ ^[0-9]+$ ]] || die "no host port published for $name"
+  for i in $(seq 60); do
+    if [[ $(podman inspect -f '{{.State.Running}}' "$name") != true ]]; then
+      show_logs "$name"
+      die "$name exited before answering (exit code $(podman inspect -f '{{.State.ExitCode}}' "$name"))"
+    fi
+    CLI_TIMEOUT=2 cli bodies >/dev/null 2>&1 && { say "$name answers on 127.0.0.1:$HOSTPORT"; return 0; }
+    sleep 0.5
+  done
+  show_logs "$name"
+  die "$name did not answer 'tumble bodies' on 127.0.0.1:$HOSTPORT within 30 s"
+}
+
+# Sets T, Z and V: the tick, and the crate's z position and z velocity, from
+# one ListBodies (one tick's state). The crate is pushed along +z, where the
+# demo world has nothing in its way.
+read_crate() {
+  local line
+  line=$(cli --json bodies | jq -er '.tick as $t | .bodies[] | select(.name == "crate")
+                                     | "\($t) \(.position[2]) \(.linear_velocity[2])"') \
+    || die "cannot read the crate from 'tumble --json bodies'"
+  read -r T Z V <<<"$line"
+}
+
+# Evaluates a jq condition on numbers, e.g. check '$a > $b' a 1 b 2.
+check() {
+  local expr=$1; shift
+  local args=()
+  while (($#)); do args+=(--argjson "$1" "$2"); shift 2; done
+  jq -ne "${args[@]}" "$expr" >/dev/null
+}
+
+stop_container() {  # NAME: SIGTERM, then the exit code must be 0
+  local name=$1 start=$SECONDS rc
+  pm stop -t 20 "$name" >/dev/null || die "podman stop $name failed"
+  rc=$(podman inspect -f '{{.State.ExitCode}}' "$name")
+  podman logs "$name" >"$WORK/$name.log" 2>&1 || true
+  if [[ $rc != 0 ]]; then
+    show_logs "$name"
+    die "$name exited with $rc after SIGTERM (expected 0; 137 means SIGTERM was ignored and it was killed)"
+  fi
+  say "$name stopped by SIGTERM with exit code 0 in $((SECONDS - start)) s"
+}
+
+# -- first container: the image as shipped, on a new volume
+start_container "$RUN_ID-1"
+
+[[ $(podman exec "$RUN_ID-1" id -u) == 10001 ]] || die "the server does not run as uid 10001"
+[[ $(podman exec "$RUN_ID-1" cat /proc/1/comm) == tumbled ]] \
+  || die "PID 1 in the container is not tumbled (so it would not get docker stop's SIGTERM)"
+podman healthcheck run "$RUN_ID-1" >/dev/null 2>&1 \
+  || { show_logs "$RUN_ID-1"; die "the image's HEALTHCHECK fails on a running server"; }
+say "runs as uid 10001, tumbled is PID 1, healthcheck passes"
+
+read_crate; t0=$T z0=$Z v0=$V
+check '$v == 0' v "$v0" || die "the crate moves before any command (velocity $v0): not a fresh world"
+
+# The crate weighs 2 kg and the demo world has no gravity: 2 N s along z
+# gives it exactly 1 m/s.
+cli --json impulse crate --impulse 0 0 2 >/dev/null || die "'tumble impulse' failed"
+sleep 1
+read_crate; ta=$T za=$Z va=$V
+check '($v - 1 | fabs) < 1e-9' v "$va" || die "after an impulse of 2 N s the crate's velocity is $va, not 1 m/s"
+check '$a > $b' a "$za" b "$z0" || die "the crate did not move: z=$z0 at tick $t0, $za at tick $ta"
+frame=$(cli --json subscribe --bodies crate --rate 10 --count 2 | tail -n 1) || die "'tumble subscribe' failed"
+zs=$(jq -er '.bodies[0].position[2]' <<<"$frame") || die "unexpected subscribe frame: $frame"
+check '$a > $b' a "$zs" b "$za" || die "the subscribed frame shows the crate at z=$zs, not past $za"
+sleep 0.5
+read_crate; tb=$T zb=$Z vb=$V
+check '$b > $a' a "$ta" b "$tb" || die "the tick did not advance ($ta, then $tb)"
+say "the crate moves: z=$z0 at tick $t0, z=$za at tick $ta, z=$zb at tick $tb, v=$vb m/s"
+
+stop_container "$RUN_ID-1"
+pm rm "$RUN_ID-1" >/dev/null
+
+# ---- 6. persistence: a new container on the same volume ------------------
+# tumbled writes the world to /data/world.state on SIGTERM and resumes from it
+# when it exists; the crate must go on from where it was, at the same velocity.
+mountpoint=$(podman volume inspect --format '{{.Mountpoint}}' "$VOLUME")
+[[ -s $mountpoint/world.state ]] \
+  || die "persistence: no /data/world.state in the volume after 'podman stop' (tumbled --state not saving?)"
+
+start_container "$RUN_ID-2"
+read_crate; tc=$T zc=$Z vc=$V
+say "after the restart: z=$zc at tick $tc, v=$vc m/s"
+check '$c > $b' b "$tb" c "$tc" \
+  || die "persistence: the world restarted at tick $tc, not after tick $tb where it was before the stop"
+check '($c - $a | fabs) < 1e-9' a "$vb" c "$vc" \
+  || die "persistence: the crate's velocity is $vc after the restart, it was $vb"
+# Constant velocity, no gravity: z grows by the same amount per tick as it
+# did between the two reads before the stop (ta -> tb).
+check '($zc - ($zb + ($zb - $za) / ($tb - $ta) * ($tc - $tb)) | fabs) < 1e-5' \
+    za "$za" zb "$zb" ta "$ta" tb "$tb" zc "$zc" tc "$tc" \
+  || die "persistence: the crate is at z=$zc at tick $tc, not on its track before the stop (z=$zb at tick $tb, $vb m/s)"
+say "persistence: the world resumed where it stopped"
+
+stop_container "$RUN_ID-2"
+
+trap - ERR
+echo "test-image: PASS"
+echo "runtime image: $IMAGE, $IMAGE_BYTES bytes ($((IMAGE_BYTES / 1000000)) MB)"
+echo "build time: $BUILD_SECONDS s"
