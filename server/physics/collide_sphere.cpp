@@ -1,6 +1,7 @@
 // Sphere against sphere, capsule, box and hull.
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "physics/collide_pairs.h"
 #include "physics/convex_hull.h"
@@ -101,7 +102,7 @@ void collide_sphere_hull(const Shape& a, const Transform& ta, const Shape& b, co
   } else {
     // Centre inside: leave through the face of least penetration.
     std::uint32_t best = 0;
-    double best_height = -INFINITY;
+    double best_height = -std::numeric_limits<double>::infinity();
     for (std::uint32_t f = 0; f < hull.faces.size(); ++f) {
       const double height = hull.faces[f].normal.dot(c) - hull.faces[f].offset;
       if (height > best_height) best_height = height, best = f;

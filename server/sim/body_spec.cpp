@@ -180,6 +180,18 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
     case tumble::v1::Shape::KIND_NOT_SET:
       break;
   }
+  if (dynamic) {
+    // Sizes and masses that pass the checks above can still be so small
+    // that the inertia tensor underflows to a singular one (a capsule of
+    // radius 1e-200 has moments of about 1e-400, that is 0), or that its
+    // inverse or the inverse mass overflows; the engine steps with both.
+    const physics::MassProperties& props = desc->mass_properties;
+    const Eigen::SelfAdjointEigenSolver<physics::Mat3> moments(props.inertia, Eigen::EigenvaluesOnly);
+    const double smallest = props.inertia.allFinite() ? moments.eigenvalues().minCoeff() : 0.0;
+    if (!(smallest > 0 && std::isfinite(1.0 / smallest) && std::isfinite(1.0 / props.mass))) {
+      return Status::error(where + ": too small or too light: its inertia cannot be inverted");
+    }
+  }
 
   if (!(status = check_vec3(spec.position(), where + ".position")).ok()) return status;
   if (!(status = check_vec3(spec.linear_velocity(), where + ".linear_velocity")).ok()) return status;

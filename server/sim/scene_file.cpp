@@ -67,7 +67,11 @@ void read_quat(const json& value, const std::string& path, tumble::v1::Quat* out
 void read_shape(const json& value, const std::string& path, tumble::v1::Shape* shape) {
   require_object(value, path, {"box", "sphere", "capsule", "points", "plane", "convex"});
   if (value.size() != 1) fail(path, "expected exactly one of box, sphere, capsule, points, plane, convex");
-  const auto& [kind, body] = *value.items().begin();
+  // The object's only member. Not `*value.items().begin()`: that is a
+  // reference to a temporary iterator, dead before its key is read.
+  const auto member = value.begin();
+  const std::string& kind = member.key();
+  const json& body = member.value();
   const std::string where = path + "." + kind;
   if (kind == "box") {
     require_object(body, where, {"half_extents"});
@@ -168,8 +172,9 @@ Status parse_scene_json(std::string_view text, tumble::v1::Scene* scene) {
   try {
     const json document = json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
     read_scene(document, scene);
-  } catch (const json::parse_error& error) {
-    // what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
+  } catch (const json::exception& error) {
+    // what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...", or for a
+    // number beyond a double, "[json.exception.out_of_range.406] number overflow parsing '1e400'".
     const std::string what = error.what();
     const std::size_t start = what.find("] ");
     return Status::error("not valid JSON: " + (start == std::string::npos ? what : what.substr(start + 2)));

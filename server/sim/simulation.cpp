@@ -443,10 +443,14 @@ void Simulation::apply(Command& command) {
 
 std::uint32_t Simulation::duration_ticks(bool has_seconds, double seconds, bool has_ticks,
                                          std::uint32_t ticks) const {
-  if (has_ticks) return ticks;
+  // The longest timed load: one tick more would read as persistent.
+  constexpr std::uint32_t kLongest = BodyLoad::kPersistent - 1;
+  if (has_ticks) return std::min(ticks, kLongest);
   if (!has_seconds) return 1;
-  // check_request bounds seconds to (0, 1e6] and the rate to 1e4 Hz, so this fits in 32 bits.
-  return static_cast<std::uint32_t>(std::max(1.0, std::round(seconds * tick_rate_hz())));
+  // check_request bounds seconds to (0, 1e6] and the rate to 1e4 Hz: up to
+  // 1e10 ticks, more than 32 bits hold, so the count is capped before the
+  // conversion (reached only above about 4295 Hz).
+  return static_cast<std::uint32_t>(std::clamp(std::round(seconds * tick_rate_hz()), 1.0, double{kLongest}));
 }
 
 ServerMessage Simulation::apply_force(const ClientMessage& message) {
@@ -524,6 +528,10 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   if (world_.body_count() >= config_.max_bodies) {
     return error(message, tumble::v1::RESOURCE_EXHAUSTED,
                  "the world already holds " + std::to_string(world_.body_count()) + " bodies, the most allowed");
+  }
+  if (world_.next_body_id() >= kMaxBodyIds) {
+    return error(message, tumble::v1::RESOURCE_EXHAUSTED,
+                 "the world has handed out all of the " + std::to_string(kMaxBodyIds) + " body ids it may");
   }
   if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
     return error(message, tumble::v1::INVALID_ARGUMENT, "body.name: '" + spec.name() + "' is used by another body");

@@ -91,7 +91,10 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
     return Status::error("gravity: missing or not finite");
   }
   world->set_gravity(to_vec3(state.gravity()));
-  if (state.next_body_id() == physics::kInvalidBodyId) return Status::error("next_body_id: out of range");
+  if (state.next_body_id() > kMaxBodyIds) {
+    return Status::error("next_body_id: " + std::to_string(state.next_body_id()) + " is more than the " +
+                         std::to_string(kMaxBodyIds) + " ids a world may hand out");
+  }
 
   for (int i = 0; i < state.bodies_size(); ++i) {
     const tumble::v1::SavedBody& saved = state.bodies(i);

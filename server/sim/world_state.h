@@ -22,6 +22,13 @@ namespace tumble::sim {
 
 inline constexpr std::uint32_t kWorldStateFormat = 1;
 
+// The most body ids a world hands out over its life, spawns included. The
+// world indexes its bodies by id (4 bytes an id), so a state whose
+// next_body_id is near 2^32, as only a damaged file has, would have the
+// restore allocate 16 GiB; restore_world refuses one beyond this, and
+// SpawnBody refuses to hand out more, so that every saved world restores.
+inline constexpr std::uint32_t kMaxBodyIds = std::uint32_t{1} << 26;
+
 // Fills state->bodies, next_body_id, gravity and loads from the world (the
 // clock fields and the scene are the caller's).
 void capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,

@@ -12,6 +12,7 @@
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "sim/world_state.h"
 
 namespace tumble::sim {
 namespace {
@@ -205,6 +206,23 @@ TEST(ControlLimits, SpawnBeyondMaxBodiesIsResourceExhausted) {
   EXPECT_EQ(driver.sim().body_count(), 3u);
 }
 
+TEST(ControlLimits, SpawnBeyondTheLastBodyIdIsResourceExhausted) {
+  tumble::v1::WorldState state;
+  make_sim(kFreeScene)->capture(&state);
+  state.set_next_body_id(kMaxBodyIds - 1);
+  std::unique_ptr<Simulation> sim;
+  const Status status = Simulation::create_from_state(state, {}, &sim);
+  ASSERT_TRUE(status.ok()) << status.message();
+  Driver driver(std::move(sim));
+  const ServerMessage last = driver.request(spawn_sphere("a", 1, 1, 0, 10, 0));
+  ASSERT_TRUE(last.has_ack());
+  EXPECT_EQ(last.ack().body_id(), kMaxBodyIds - 1);
+  const ServerMessage over = driver.request(spawn_sphere("b", 1, 1, 0, 20, 0));
+  ASSERT_TRUE(over.has_error());
+  EXPECT_EQ(over.error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(driver.sim().body_count(), 3u);
+}
+
 TEST(ControlLimits, ASceneOverMaxBodiesIsRefused) {
   tumble::v1::Scene scene;
   ASSERT_TRUE(parse_scene_json(kFreeScene, &scene).ok());
@@ -331,6 +349,29 @@ TEST_F(ControlTest, PersistentWithADurationIsRefused) {
   ASSERT_TRUE(reply.has_error());
   EXPECT_EQ(reply.error().code(), tumble::v1::INVALID_ARGUMENT);
   EXPECT_EQ(driver_.sim().loads().size(), 0u);
+}
+
+// The longest durations a request may ask for stay timed loads: 1e6 s at
+// 1e4 Hz is more ticks than 32 bits hold, and UINT32_MAX ticks is the
+// persistent marker; both are capped at the longest timed load.
+TEST_F(ControlTest, TheLongestDurationsAreCappedNotWrappedOrPersistent) {
+  ClientMessage rate;
+  rate.mutable_set_tick_rate()->set_rate_hz(10000);
+  ASSERT_TRUE(driver_.request(rate).has_ack());
+  ClientMessage by_seconds = persistent_force("crate", 1);
+  by_seconds.mutable_apply_force()->set_persistent(false);
+  by_seconds.mutable_apply_force()->set_seconds(1e6);
+  ASSERT_TRUE(driver_.request(by_seconds).has_ack());
+  ClientMessage by_ticks = persistent_force("ball", 1);
+  by_ticks.mutable_apply_force()->set_persistent(false);
+  by_ticks.mutable_apply_force()->set_ticks(BodyLoad::kPersistent);
+  ASSERT_TRUE(driver_.request(by_ticks).has_ack());
+
+  ASSERT_EQ(driver_.sim().loads().size(), 2u);
+  for (const BodyLoad& load : driver_.sim().loads().loads()) {
+    EXPECT_FALSE(load.persistent());
+    EXPECT_GT(load.ticks_left, BodyLoad::kPersistent - 10);
+  }
 }
 
 TEST_F(ControlTest, PausedTheTickStaysButCommandsAreApplied) {

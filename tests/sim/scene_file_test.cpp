@@ -142,6 +142,11 @@ TEST(SceneFile, ErrorsNameTheField) {
                                       "positions": [[0,0,0],[1,0,0]]}}}]})"),
             "bodies[0].shape.points: the points are collinear, so the body has no rotational inertia about one "
             "axis");
+  // Positive, but the moments of inertia underflow to 0 or the inverse mass overflows.
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"capsule": {"radius": 1e-200, "half_height": 0}}, "mass": 1}]})"),
+            "bodies[0]: too small or too light: its inertia cannot be inverted");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1e-310}]})"),
+            "bodies[0]: too small or too light: its inertia cannot be inverted");
   EXPECT_EQ(load_error(R"({"gravity": [0, "down", 0]})"), "gravity[1]: expected a number");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"plane": {}}}]})"),
             "bodies[0].shape.plane: a plane must be static (\"static\": true)");
@@ -168,6 +173,12 @@ TEST(SceneFile, NotJsonSaysWhere) {
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("not valid JSON"), std::string::npos) << status.message();
   EXPECT_NE(status.message().find("line 1"), std::string::npos) << status.message();
+}
+
+TEST(SceneFile, ANumberBeyondADoubleIsAnErrorNotAnException) {
+  tumble::v1::Scene scene;
+  const Status status = parse(R"({"gravity": [0, 1e400, 0]})", &scene);
+  EXPECT_EQ(status.message(), "not valid JSON: number overflow parsing '1e400'");
 }
 
 TEST(SceneFile, MissingFileNamesThePath) {

@@ -179,6 +179,9 @@ TEST(WorldState, InconsistentStatesAreRefused) {
   bad.set_next_body_id(3);
   EXPECT_EQ(error_of(bad), "bodies[3].id: 3 is not below next_body_id");
   bad = good;
+  bad.set_next_body_id(0xfffffff0);  // restoring it would index 2^32 ids
+  EXPECT_EQ(error_of(bad), "next_body_id: 4294967280 is more than the 67108864 ids a world may hand out");
+  bad = good;
   bad.mutable_bodies(1)->mutable_linear_momentum()->set_x(std::nan(""));
   EXPECT_EQ(error_of(bad), "bodies[1]: momenta and sleep_time must be finite");
   bad = good;
