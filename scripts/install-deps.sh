@@ -2,8 +2,16 @@
 # Installs the Debian 12 packages tumble needs to build, test and benchmark.
 # Idempotent: asks apt only for what dpkg says is missing, and runs
 # `apt-get update` only when something is.
-#   scripts/install-deps.sh [extra-package ...]
+#   scripts/install-deps.sh [--fuzz] [extra-package ...]
+# --fuzz adds what scripts/fuzz.sh needs besides: clang and its libFuzzer
+# and sanitizer runtimes. The default build uses GCC and does not need them.
 set -euo pipefail
+
+optional=()
+if [[ "${1:-}" == "--fuzz" ]]; then
+  optional=(clang-14 libclang-rt-14-dev)
+  shift
+fi
 
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -11,6 +19,8 @@ packages=(
   nlohmann-json3-dev libcli11-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   libbullet-dev libode-dev
+  python3-protobuf
+  "${optional[@]}"
   "$@"
 )
 

@@ -6,20 +6,46 @@
 # runs when docker/probe.sh says containers can run on this machine, and is
 # left out, with the reason, when they cannot. TUMBLE_DOCKER_TEST=0 leaves it
 # out anyway; =1 insists on it.
+#
+# SANITIZE picks a sanitizer build of its own instead (no benchmarks):
+#   SANITIZE=address  AddressSanitizer and UndefinedBehaviorSanitizer, in
+#                     build-asan/; every test but docker and bench.
+#   SANITIZE=thread   ThreadSanitizer, in build-tsan/; only the tests that
+#                     run threads (labels net, sim, e2e), without the slow one.
+# A sanitizer's report fails the test it comes from.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-./scripts/build.sh
-
-ctest_args=(--test-dir "${BUILD_DIR:-build}" --output-on-failure -j 2 --timeout 600)
-case "${TUMBLE_DOCKER_TEST:-auto}" in
-  0) ctest_args+=(-LE docker) ;;
-  1) ;;
+ctest_args=(--output-on-failure -j 2 --timeout 600)
+case "${SANITIZE:-}" in
+  "")
+    ./scripts/build.sh
+    build_dir=${BUILD_DIR:-build}
+    case "${TUMBLE_DOCKER_TEST:-auto}" in
+      0) ctest_args+=(-LE docker) ;;
+      1) ;;
+      *)
+        if ! reason=$(docker/probe.sh 2>&1); then
+          echo "test.sh: leaving out the container image test: ${reason#*: }" >&2
+          ctest_args+=(-LE docker)
+        fi
+        ;;
+    esac
+    ;;
+  address)
+    build_dir=${BUILD_DIR:-build-asan}
+    BUILD_DIR=$build_dir ./scripts/build.sh -DTUMBLE_SANITIZE=address,undefined -DTUMBLE_BUILD_BENCH=OFF
+    ctest_args+=(-LE 'docker|bench')
+    ;;
+  thread)
+    build_dir=${BUILD_DIR:-build-tsan}
+    BUILD_DIR=$build_dir TARGETS="net_tests sim_tests e2e_tests e2e_bad_input_tests" \
+      ./scripts/build.sh -DTUMBLE_SANITIZE=thread -DTUMBLE_BUILD_BENCH=OFF
+    ctest_args+=(-L 'net|sim|e2e' -LE slow)
+    ;;
   *)
-    if ! reason=$(docker/probe.sh 2>&1); then
-      echo "test.sh: leaving out the container image test: ${reason#*: }" >&2
-      ctest_args+=(-LE docker)
-    fi
+    echo "test.sh: SANITIZE is address or thread, not '$SANITIZE'" >&2
+    exit 2
     ;;
 esac
-ctest "${ctest_args[@]}" "$@"
+ctest --test-dir "$build_dir" "${ctest_args[@]}" "$@"
