@@ -190,6 +190,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   double rate_hz = 30;
   std::uint64_t count = 0;
   std::string fields = "all";
+  std::string encoding = "full";
   bool events = false;
   subscribe
       ->add_option("--bodies", subscribe_bodies, "Bodies to follow, names or ids, comma-separated; all when absent")
@@ -206,6 +207,11 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   subscribe->add_option("--fields", fields, "pose: positions and orientations; all: velocities too")
       ->capture_default_str()
       ->check(CLI::IsMember({"pose", "all"}));
+  subscribe
+      ->add_option("--encoding", encoding,
+                   "full: float32; quantized: 1/1024 m grid, 32-bit orientations; delta: quantized, changes only")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"full", "quantized", "delta"}));
   subscribe->add_flag("--events", events, "Also print bodies spawned, removed, falling asleep, waking, and resets");
 
   CLI::App* spawn = app.add_subcommand("spawn", "Add a body to the world");
@@ -336,6 +342,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     command.rate_hz = rate_hz;
     if (count_option->count() > 0) command.count = count;
     command.poses_only = fields == "pose";
+    command.encoding = encoding == "quantized" ? tumble::v1::POSE_ENCODING_QUANTIZED
+                       : encoding == "delta"   ? tumble::v1::POSE_ENCODING_DELTA
+                                               : tumble::v1::POSE_ENCODING_FULL;
     command.events = events;
     invocation.command = std::move(command);
   } else if (app.got_subcommand(spawn)) {

@@ -5,7 +5,8 @@
 //     force BODY --force FX FY FZ [--at PX PY PZ [--local]] [--duration S | --ticks N | --persistent]
 //     torque BODY --torque TX TY TZ [--duration S | --ticks N | --persistent]
 //     impulse BODY --impulse JX JY JZ [--at PX PY PZ [--local]]
-//     subscribe [--bodies A,B,...] [--rate HZ] [--count N] [--fields pose|all] [--events]
+//     subscribe [--bodies A,B,...] [--rate HZ] [--count N] [--fields pose|all]
+//               [--encoding full|quantized|delta] [--events]
 //     spawn NAME (--box HX HY HZ | --sphere R | --capsule R HH) [--mass M] [--at X Y Z]
 //           [--orientation W X Y Z] [--velocity VX VY VZ] [--angular-velocity WX WY WZ]
 //           [--static | --kinematic] [--friction F] [--restitution E]
@@ -89,6 +90,7 @@ struct SubscribeCommand {
   double rate_hz = 30;                      // 0: every tick
   std::optional<std::uint64_t> count;       // stop after this many frames; none: until interrupted
   bool poses_only = false;                  // --fields pose: no velocities
+  tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;  // --encoding
   bool events = false;                      // --events: every kind of WorldEvent too
 };
 

@@ -10,6 +10,7 @@
 #include "requests.h"
 #include "tumble_client/connection.h"
 #include "tumble_client/pose_sample.h"
+#include "tumble_client/pose_stream.h"
 #include "watch_state.h"
 
 namespace tumble::cli {
@@ -49,6 +50,7 @@ std::optional<client::Failure> follow(client::Connection& connection, std::uint3
                                       std::optional<std::uint64_t> count, const StreamHandlers& handlers) {
   catch_interrupts();
   std::uint64_t shown = 0;
+  client::PoseStream stream;
   while (!count || shown < *count) {
     if (interrupted()) break;
     auto message = connection.next_message(kInterruptPollInterval);
@@ -64,7 +66,7 @@ std::optional<client::Failure> follow(client::Connection& connection, std::uint3
       continue;
     }
     if (message->pose_frame().subscription_id() != subscription) continue;
-    auto sample = client::unpack_pose_frame(message->pose_frame());
+    auto sample = stream.decode(message->pose_frame());
     if (!sample) return sample.failure();
     if (auto failure = handlers.frame(*sample)) return failure;
     ++shown;

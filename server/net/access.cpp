@@ -41,6 +41,7 @@ bool observer_may(ClientMessage::KindCase kind) {
     case ClientMessage::kListBodies:
     case ClientMessage::kSubscribe:
     case ClientMessage::kUnsubscribe:
+    case ClientMessage::kKeyFrameRequest:
     case ClientMessage::kGetStats:
     case ClientMessage::KIND_NOT_SET:
       return true;

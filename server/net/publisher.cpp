@@ -46,6 +46,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
   const bool all_bodies = request.bodies_size() == 0;
   const bool velocities = request.fields() != tumble::v1::POSE_FIELDS_POSE;
+  const tumble::v1::PoseEncoding encoding = request.encoding();
   std::uint32_t event_kinds = 0;
   for (const int kind : request.events()) event_kinds |= kind_bit(kind);
 
@@ -58,7 +59,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
 
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) {
     return s.all_bodies == all_bodies && s.bodies == bodies && s.period_ticks == period &&
-           s.velocities == velocities && s.event_kinds == event_kinds;
+           s.velocities == velocities && s.event_kinds == event_kinds && s.encoding == encoding;
   });
   if (it == streams_.end()) {
     Stream stream;
@@ -67,6 +68,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
     stream.bodies = std::move(bodies);
     stream.period_ticks = period;
     stream.velocities = velocities;
+    stream.encoding = encoding;
     stream.event_kinds = event_kinds;
     stream.last_tick = sim_.tick();
     streams_.push_back(std::move(stream));
@@ -78,7 +80,18 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   if (!already_member) it->members.push_back({session.get(), session});
   it->awaiting_first.push_back({session.get(), session});
   sim_.request_snapshot();
-  return Subscription{it->id, period, tick_rate / period};
+  return Subscription{it->id, period, tick_rate / period, encoding};
+}
+
+bool Publisher::request_key_frame(const std::shared_ptr<Session>& session, std::uint32_t stream_id) {
+  auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) { return s.id == stream_id; });
+  if (it == streams_.end() || std::none_of(it->members.begin(), it->members.end(),
+                                           [&](const Member& m) { return m.key == session.get(); })) {
+    return false;
+  }
+  it->awaiting_first.push_back({session.get(), session});
+  sim_.request_snapshot();
+  return true;
 }
 
 bool Publisher::unsubscribe(const Session& session, std::uint32_t stream_id) {
@@ -170,14 +183,46 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
                            snapshot.tick - stream.last_tick > stream.period_ticks)) ||
                          (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
     if (!regular && stream.awaiting_first.empty()) continue;
-    const std::shared_ptr<const std::string> bytes = encode(stream, snapshot);
-    const std::vector<Member>& targets = regular ? stream.members : stream.awaiting_first;
-    for (const Member& member : targets) {
-      if (auto session = member.session.lock()) session->send_frame(stream.id, bytes);
-    }
+    send_frame(stream, snapshot, regular ? stream.members : stream.awaiting_first);
     stream.awaiting_first.clear();
     if (regular) stream.last_tick = snapshot.tick;
   }
+}
+
+void Publisher::send_frame(const Stream& stream, const sim::Snapshot& snapshot,
+                           const std::vector<Member>& targets) const {
+  if (stream.encoding == tumble::v1::POSE_ENCODING_DELTA) {
+    auto frame = std::make_shared<QuantizedFrame>();
+    frame->subscription_id = stream.id;
+    frame->tick = snapshot.tick;
+    frame->sim_time = snapshot.sim_time;
+    frame->velocities = stream.velocities;
+    frame->bodies = quantize(stream, snapshot);
+    const std::shared_ptr<const QuantizedFrame> shared = std::move(frame);
+    for (const Member& member : targets) {
+      if (auto session = member.session.lock()) session->send_delta_frame(stream.id, shared);
+    }
+    return;
+  }
+  const std::shared_ptr<const std::string> bytes = encode(stream, snapshot);
+  for (const Member& member : targets) {
+    if (auto session = member.session.lock()) session->send_frame(stream.id, bytes);
+  }
+}
+
+std::vector<wire::QuantizedBody> Publisher::quantize(const Stream& stream, const sim::Snapshot& snapshot) const {
+  std::vector<wire::QuantizedBody> bodies;
+  bodies.reserve(stream.all_bodies ? snapshot.body_count() : stream.bodies.size());
+  for (std::size_t i = 0; i < snapshot.body_count(); ++i) {
+    const physics::BodyId id = snapshot.ids[i];
+    if (!stream.all_bodies && !std::binary_search(stream.bodies.begin(), stream.bodies.end(), id)) continue;
+    bodies.push_back(wire::quantize_body(id, &snapshot.positions[3 * i], &snapshot.orientations[4 * i],
+                                         stream.velocities ? &snapshot.linear_velocities[3 * i] : nullptr,
+                                         stream.velocities ? &snapshot.angular_velocities[3 * i] : nullptr));
+  }
+  const auto by_id = [](const wire::QuantizedBody& a, const wire::QuantizedBody& b) { return a.id < b.id; };
+  if (!std::is_sorted(bodies.begin(), bodies.end(), by_id)) std::sort(bodies.begin(), bodies.end(), by_id);
+  return bodies;
 }
 
 std::shared_ptr<const std::string> Publisher::encode(const Stream& stream, const sim::Snapshot& snapshot) const {
@@ -186,6 +231,11 @@ std::shared_ptr<const std::string> Publisher::encode(const Stream& stream, const
   frame.set_subscription_id(stream.id);
   frame.set_tick(snapshot.tick);
   frame.set_sim_time(snapshot.sim_time);
+  if (stream.encoding == tumble::v1::POSE_ENCODING_QUANTIZED) {
+    frame.set_encoding(tumble::v1::POSE_ENCODING_QUANTIZED);
+    frame.set_packed(wire::encode_quantized_poses(quantize(stream, snapshot), stream.velocities));
+    return std::make_shared<const std::string>(wire::encode_frame(message));
+  }
   const std::size_t n = stream.all_bodies ? snapshot.body_count() : stream.bodies.size();
   frame.mutable_ids()->Reserve(static_cast<int>(n));
   frame.mutable_positions()->Reserve(static_cast<int>(3 * n));

@@ -1,8 +1,10 @@
 // Fans snapshots and world events out to subscribers. Subscriptions that
 // ask for the same thing (the same bodies at the same period, with the same
-// fields and event kinds) share one stream: its frame is encoded once per
-// snapshot and the bytes are shared by every session on it. The stream's id
-// is the subscription_id clients see.
+// fields, event kinds and encoding) share one stream: its frame is encoded
+// once per snapshot and the bytes are shared by every session on it. A
+// DELTA stream shares its quantized frame instead, and each session encodes
+// it against what its own client last received (net/delta_encoder.h). The
+// stream's id is the subscription_id clients see.
 //
 // The sim thread hands snapshots over with offer(), which never blocks: it
 // keeps only the latest one and posts the publishing to the I/O thread. A
@@ -27,6 +29,7 @@
 #include <vector>
 
 #include "net/asio.h"
+#include "net/quantized_frame.h"
 #include "sim/request_check.h"
 #include "sim/simulation.h"
 #include "sim/snapshot.h"
@@ -42,6 +45,7 @@ struct Subscription {
   std::uint32_t stream_id = 0;
   std::uint32_t period_ticks = 1;
   double rate_hz = 0;
+  tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;
 };
 
 class Publisher {
@@ -56,6 +60,10 @@ class Publisher {
 
   // False when the session is not on that stream.
   bool unsubscribe(const Session& session, std::uint32_t stream_id);
+
+  // Sends `session` the current state of `stream_id` at once, as it does a
+  // new subscriber. False when the session is not on that stream.
+  bool request_key_frame(const std::shared_ptr<Session>& session, std::uint32_t stream_id);
 
   // Takes a closing session off every stream.
   void remove_session(const Session& session);
@@ -79,6 +87,7 @@ class Publisher {
     std::vector<physics::BodyId> bodies;  // sorted, when !all_bodies
     std::uint32_t period_ticks = 1;
     bool velocities = true;               // POSE_FIELDS_POSE_AND_VELOCITY
+    tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;
     std::uint32_t event_kinds = 0;        // bit k set: events of tumble.v1.WorldEventKind k
     std::uint64_t last_tick = 0;          // tick of the last regular frame
     std::vector<Member> members;
@@ -88,7 +97,12 @@ class Publisher {
   void publish_latest();
   void publish(const sim::Snapshot& snapshot);
   void deliver(const sim::WorldEvent& event);
+  // Sends the stream's frame of `snapshot` to `targets`.
+  void send_frame(const Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) const;
+  // A FULL or QUANTIZED frame, framed for the wire.
   std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
+  // The stream's bodies on the quantization grids, sorted by id.
+  std::vector<wire::QuantizedBody> quantize(const Stream& stream, const sim::Snapshot& snapshot) const;
   // Tells the sim the periods it must publish at and whether anyone wants sleep events.
   void update_sim_interest();
 

@@ -8,6 +8,7 @@
 #include "net/publisher.h"
 #include "sim/request_check.h"
 #include "sim/simulation.h"
+#include "wire/quantized_poses.h"
 
 namespace tumble::net {
 
@@ -188,6 +189,9 @@ void Session::handle_request(ClientMessage message) {
     case ClientMessage::kUnsubscribe:
       handle_unsubscribe(message);
       return;
+    case ClientMessage::kKeyFrameRequest:
+      handle_key_frame_request(message);
+      return;
     default:
       break;
   }
@@ -221,6 +225,24 @@ void Session::handle_subscribe(const ClientMessage& message) {
   subscribed.set_subscription_id(subscription.stream_id);
   subscribed.set_period_ticks(subscription.period_ticks);
   subscribed.set_rate_hz(subscription.rate_hz);
+  subscribed.set_encoding(subscription.encoding);
+  if (subscription.encoding != tumble::v1::POSE_ENCODING_FULL) subscribed.set_position_step(wire::kPositionStep);
+  // A repeated Subscribe starts the client's picture of a DELTA stream afresh.
+  if (subscription.encoding == tumble::v1::POSE_ENCODING_DELTA) outbound_.restart_delta(subscription.stream_id);
+  send(reply);
+}
+
+void Session::handle_key_frame_request(const ClientMessage& message) {
+  const std::uint32_t stream = message.key_frame_request().subscription_id();
+  if (!context_.publisher.request_key_frame(shared_from_this(), stream)) {
+    send_error(message.request_id(), tumble::v1::UNKNOWN_SUBSCRIPTION,
+               "this connection has no subscription " + std::to_string(stream));
+    return;
+  }
+  outbound_.restart_delta(stream);
+  ServerMessage reply;
+  reply.mutable_ack()->set_request_id(message.request_id());
+  reply.mutable_ack()->set_applied_tick(context_.sim.tick());
   send(reply);
 }
 
@@ -290,6 +312,13 @@ void Session::send_frame(std::uint32_t stream, std::shared_ptr<const std::string
   if (closed_ || close_when_flushed_) return;
   if (outbound_.empty()) queued_since_ = Clock::now();
   outbound_.offer_frame(stream, std::move(bytes));
+  if (!writing_) write_more();
+}
+
+void Session::send_delta_frame(std::uint32_t stream, std::shared_ptr<const QuantizedFrame> frame) {
+  if (closed_ || close_when_flushed_) return;
+  if (outbound_.empty()) queued_since_ = Clock::now();
+  outbound_.offer_delta_frame(stream, std::move(frame));
   if (!writing_) write_more();
 }
 

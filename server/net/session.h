@@ -79,6 +79,10 @@ class Session : public std::enable_shared_from_this<Session> {
   // Queues a pose frame of `stream`, replacing an unsent older one.
   void send_frame(std::uint32_t stream, std::shared_ptr<const std::string> bytes);
 
+  // Queues a DELTA stream's frame, replacing an unsent older one; it is
+  // encoded against this client's last frame of the stream when written.
+  void send_delta_frame(std::uint32_t stream, std::shared_ptr<const QuantizedFrame> frame);
+
   // Closes the connection now, logging `reason`.
   void close(const std::string& reason);
 
@@ -109,6 +113,7 @@ class Session : public std::enable_shared_from_this<Session> {
   void handle_hello(const tumble::v1::ClientMessage& message);
   void handle_subscribe(const tumble::v1::ClientMessage& message);
   void handle_unsubscribe(const tumble::v1::ClientMessage& message);
+  void handle_key_frame_request(const tumble::v1::ClientMessage& message);
   void send_error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text);
   // Sends an error, stops reading and closes once everything queued is written.
   void fail(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id = 0);

@@ -59,6 +59,7 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
     case ClientMessage::kHello:
     case ClientMessage::kListBodies:
     case ClientMessage::kUnsubscribe:
+    case ClientMessage::kKeyFrameRequest:
     case ClientMessage::kPause:
     case ClientMessage::kResume:
     case ClientMessage::kReset:
@@ -104,6 +105,10 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
       if (!tumble::v1::PoseFields_IsValid(m.fields())) {
         return invalid("fields must be POSE_FIELDS_POSE_AND_VELOCITY or POSE_FIELDS_POSE, got " +
                        std::to_string(m.fields()));
+      }
+      if (!tumble::v1::PoseEncoding_IsValid(m.encoding())) {
+        return invalid("encoding must be POSE_ENCODING_FULL, _QUANTIZED or _DELTA, got " +
+                       std::to_string(m.encoding()));
       }
       for (const int kind : m.events()) {
         if (kind == tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED || !tumble::v1::WorldEventKind_IsValid(kind)) {

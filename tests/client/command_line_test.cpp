@@ -193,6 +193,17 @@ TEST(CommandLine, SubscribeDefaults) {
   EXPECT_TRUE(subscribe.bodies.empty());
   EXPECT_EQ(subscribe.rate_hz, 30);
   EXPECT_FALSE(subscribe.count);
+  EXPECT_EQ(subscribe.encoding, tumble::v1::POSE_ENCODING_FULL);
+}
+
+TEST(CommandLine, SubscribeEncodings) {
+  EXPECT_EQ(parse_command<SubscribeCommand>({"subscribe", "--encoding", "quantized"}).encoding,
+            tumble::v1::POSE_ENCODING_QUANTIZED);
+  EXPECT_EQ(parse_command<SubscribeCommand>({"subscribe", "--encoding", "delta"}).encoding,
+            tumble::v1::POSE_ENCODING_DELTA);
+  EXPECT_EQ(parse_command<SubscribeCommand>({"subscribe", "--encoding", "full"}).encoding,
+            tumble::v1::POSE_ENCODING_FULL);
+  expect_usage_error({"subscribe", "--encoding", "zip"});
 }
 
 TEST(CommandLine, SubscribeWithBodiesRateAndCount) {

@@ -2,6 +2,8 @@
 // number checked against the closed-form answer for a free body.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -158,6 +160,70 @@ TEST_F(CliTest, SubscribeShowsAForceTakingEffect) {
   while (std::getline(lines, line)) last = line;
   const json frame = json::parse(last);
   EXPECT_FLOAT_EQ(frame["bodies"][0]["linear_velocity"][2].get<float>(), 5.0f) << last;
+}
+
+// The JSON lines `tumble --json subscribe ARGS...` prints.
+std::vector<json> subscribe_lines(TumbledProcess& server, std::vector<std::string> args) {
+  args.insert(args.begin(), {"--json", "subscribe"});
+  const CommandResult result = server.cli(args);
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  std::vector<json> frames;
+  std::istringstream lines(result.out);
+  std::string line;
+  while (std::getline(lines, line)) frames.push_back(json::parse(line, nullptr, false));
+  return frames;
+}
+
+// Largest |a[k] - b[k]| of two JSON arrays of numbers.
+double largest_difference(const json& a, const json& b) {
+  double worst = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k].get<double>() - b[k].get<double>()));
+  return worst;
+}
+
+TEST_F(CliTest, QuantizedAndDeltaSubscriptionsPrintTheBodiesFullDoesWithinTheGrid) {
+  // Paused, so that every encoding shows the same tick: an odd position, a
+  // turned orientation and velocities off every grid.
+  run_json({"pause"});
+  run_json({"set", "crate", "--position", "1.23456", "-2.34567", "3.45678", "--orientation", "0.8", "0.2", "-0.4",
+            "0.4", "--velocity", "0.123", "-4.567", "8.9", "--angular-velocity", "1.234", "0", "-0.5"});
+  const std::vector<json> full = subscribe_lines(server_, {"--count", "1"});
+  ASSERT_EQ(full.size(), 1u);
+  for (const char* encoding : {"quantized", "delta"}) {
+    const std::vector<json> lines = subscribe_lines(server_, {"--encoding", encoding, "--count", "1"});
+    ASSERT_EQ(lines.size(), 1u) << encoding;
+    const json& got = lines[0];
+    EXPECT_EQ(got["tick"], full[0]["tick"]) << encoding;
+    ASSERT_EQ(got["bodies"].size(), full[0]["bodies"].size()) << encoding;
+    for (std::size_t i = 0; i < got["bodies"].size(); ++i) {
+      const json& q = got["bodies"][i];
+      const json& f = full[0]["bodies"][i];
+      EXPECT_EQ(q["id"], f["id"]);
+      EXPECT_EQ(q["name"], f["name"]);
+      // Half a 1/1024 m step, plus float32 rounding of the printed values.
+      EXPECT_LE(largest_difference(q["position"], f["position"]), 0.5 / 1024 + 1e-6) << encoding << " " << q;
+      // Smallest three: |q' - q| <= 2.4e-3 (proto/wire/smallest_three.h); both have w > 0 here.
+      EXPECT_LE(largest_difference(q["orientation"], f["orientation"]), 2.4e-3) << encoding << " " << q;
+      EXPECT_LE(largest_difference(q["linear_velocity"], f["linear_velocity"]), 0.5 / 128 + 1e-6) << encoding;
+      EXPECT_LE(largest_difference(q["angular_velocity"], f["angular_velocity"]), 0.5 / 256 + 1e-6) << encoding;
+    }
+  }
+}
+
+TEST_F(CliTest, DeltaSubscriptionPrintsEveryBodyInEveryFrame) {
+  // The crate rests and only the ball moves, so the frames after the first
+  // carry the ball alone: the CLI fills in the crate from the key frame.
+  run_json({"set", "ball", "--velocity", "0", "0", "1"});
+  const std::vector<json> lines = subscribe_lines(server_, {"--encoding", "delta", "--rate", "60", "--count", "5"});
+  ASSERT_EQ(lines.size(), 5u);
+  double last_z = -1;
+  for (const json& frame : lines) {
+    ASSERT_EQ(frame["bodies"].size(), 2u) << frame;
+    EXPECT_EQ(body(frame, "crate")["position"], json::array({0.0, 0.0, 0.0})) << frame;
+    const double z = body(frame, "ball")["position"][2].get<double>();
+    EXPECT_GT(z, last_z);
+    last_z = z;
+  }
 }
 
 TEST_F(CliTest, UnknownBodyIsAOneLineErrorAndAFailure) {

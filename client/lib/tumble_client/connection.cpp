@@ -58,6 +58,7 @@ ServerMessage::KindCase expected_reply(ClientMessage::KindCase request) {
     case ClientMessage::kApplyTorque:
     case ClientMessage::kApplyImpulse:
     case ClientMessage::kUnsubscribe:
+    case ClientMessage::kKeyFrameRequest:
     case ClientMessage::kSpawnBody:
     case ClientMessage::kRemoveBody:
     case ClientMessage::kSetBodyState:
@@ -350,6 +351,12 @@ Result<tumble::v1::Subscribed> Connection::subscribe(const tumble::v1::Subscribe
 Result<tumble::v1::Ack> Connection::unsubscribe(std::uint32_t subscription_id, Timeout timeout) {
   ClientMessage message;
   message.mutable_unsubscribe()->set_subscription_id(subscription_id);
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Connection::request_key_frame(std::uint32_t subscription_id, Timeout timeout) {
+  ClientMessage message;
+  message.mutable_key_frame_request()->set_subscription_id(subscription_id);
   return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
 }
 

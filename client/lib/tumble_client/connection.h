@@ -79,6 +79,8 @@ class Connection {
   Result<tumble::v1::BodyList> list_bodies(Timeout timeout);
   Result<tumble::v1::Subscribed> subscribe(const tumble::v1::Subscribe& subscribe, Timeout timeout);
   Result<tumble::v1::Ack> unsubscribe(std::uint32_t subscription_id, Timeout timeout);
+  // A DELTA subscription's next frame is a key frame.
+  Result<tumble::v1::Ack> request_key_frame(std::uint32_t subscription_id, Timeout timeout);
   // The Ack's body_id is the new body's id.
   Result<tumble::v1::Ack> spawn_body(const tumble::v1::BodySpec& body, Timeout timeout);
   Result<tumble::v1::Ack> remove_body(const tumble::v1::BodyRef& body, Timeout timeout);

@@ -19,9 +19,47 @@ std::array<float, N> slice(const FloatArray& values, std::size_t body) {
   return out;
 }
 
+template <std::size_t N>
+std::array<float, N> to_float(const std::array<double, N>& values) {
+  std::array<float, N> out{};
+  for (std::size_t k = 0; k < N; ++k) out[k] = static_cast<float>(values[k]);
+  return out;
+}
+
 }  // namespace
 
+PoseSample sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPoses& poses) {
+  PoseSample sample;
+  sample.subscription_id = frame.subscription_id();
+  sample.tick = frame.tick();
+  sample.sim_time = frame.sim_time();
+  sample.has_velocities = poses.velocities;
+  sample.bodies.reserve(poses.bodies.size());
+  for (const wire::QuantizedBody& body : poses.bodies) {
+    BodyPose pose;
+    pose.id = body.id;
+    pose.position = to_float(wire::position_of(body, poses.step_exponent));
+    pose.orientation = to_float(wire::orientation_of(body));
+    if (poses.velocities) {
+      pose.linear_velocity = to_float(wire::linear_velocity_of(body));
+      pose.angular_velocity = to_float(wire::angular_velocity_of(body));
+    }
+    sample.bodies.push_back(pose);
+  }
+  return sample;
+}
+
 Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
+  if (frame.encoding() == tumble::v1::POSE_ENCODING_DELTA) {
+    return Failure{FailureKind::protocol, "a DELTA PoseFrame cannot be read without the frames before it"};
+  }
+  if (frame.encoding() == tumble::v1::POSE_ENCODING_QUANTIZED) {
+    const auto poses = wire::decode_quantized_poses(frame.packed());
+    if (!poses) {
+      return Failure{FailureKind::protocol, "the server sent a QUANTIZED PoseFrame whose packed bytes are malformed"};
+    }
+    return sample_of(frame, *poses);
+  }
   const auto count = static_cast<std::size_t>(frame.ids_size());
   // A pose-only frame has neither velocity array; checked as width 0.
   const bool has_velocities = count == 0 || frame.linear_velocities_size() > 0 || frame.angular_velocities_size() > 0;

@@ -7,10 +7,12 @@
 
 #include "tumble/v1/protocol.pb.h"
 #include "tumble_client/result.h"
+#include "wire/quantized_poses.h"
 
 namespace tumble::client {
 
-// One body's state as the server sent it, in float32 like the wire. All
+// One body's state as the server sent it, in float32 like the FULL
+// encoding (QUANTIZED and DELTA values are converted from their grids). All
 // vectors are in the world frame; the velocities are zero when the
 // subscription asked for poses only.
 struct BodyPose {
@@ -30,9 +32,14 @@ struct PoseSample {
   std::vector<BodyPose> bodies;
 };
 
-// Unpacks `frame`. Fails with kind protocol when an array's length is not
-// the number of ids times its width (3 or 4); both velocity arrays may
-// instead be empty (a pose-only frame).
+// Unpacks a FULL or QUANTIZED `frame`. Fails with kind protocol when an
+// array's length is not the number of ids times its width (3 or 4) (both
+// velocity arrays may instead be empty: a pose-only frame), when `packed`
+// does not follow its layout, or for a DELTA frame, which only a PoseStream
+// can complete.
 Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame);
+
+// The sample of a decoded QUANTIZED or DELTA `packed` field, bodies in its order.
+PoseSample sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPoses& poses);
 
 }  // namespace tumble::client
