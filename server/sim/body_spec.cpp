@@ -212,17 +212,4 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
   return {};
 }
 
-const char* shape_kind_name(const tumble::v1::Shape& shape) {
-  switch (shape.kind_case()) {
-    case tumble::v1::Shape::kBox: return "box";
-    case tumble::v1::Shape::kSphere: return "sphere";
-    case tumble::v1::Shape::kCapsule: return "capsule";
-    case tumble::v1::Shape::kPoints: return "points";
-    case tumble::v1::Shape::kPlane: return "plane";
-    case tumble::v1::Shape::kConvex: return "convex";
-    case tumble::v1::Shape::KIND_NOT_SET: break;
-  }
-  return "none";
-}
-
 }  // namespace tumble::sim

@@ -28,8 +28,4 @@ inline constexpr int kMaxConvexPoints = 4096;
 Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where,
                            physics::BodyDesc* desc);
 
-// The name of the shape kind as written in scene files: "box", "sphere",
-// "capsule", "points", "plane", "convex", or "none".
-const char* shape_kind_name(const tumble::v1::Shape& shape);
-
 }  // namespace tumble::sim
