@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "command_line.h"
+#include "command_line_helpers.h"
 #include "exit_code.h"
 #include "output.h"
 #include "requests.h"
@@ -16,31 +17,9 @@
 namespace tumble::cli {
 namespace {
 
-ParsedCommandLine parse(std::vector<std::string> args) {
-  args.insert(args.begin(), "tumble");
-  std::vector<const char*> argv;
-  for (const std::string& arg : args) argv.push_back(arg.c_str());
-  return parse_command_line(static_cast<int>(argv.size()), argv.data());
-}
-
-template <typename CommandType>
-CommandType parse_command(std::vector<std::string> args) {
-  ParsedCommandLine parsed = parse(std::move(args));
-  EXPECT_TRUE(parsed.invocation.has_value()) << parsed.text;
-  if (!parsed.invocation) return CommandType{};
-  const auto* command = std::get_if<CommandType>(&parsed.invocation->command);
-  EXPECT_NE(command, nullptr);
-  return command ? *command : CommandType{};
-}
-
-void expect_usage_error(std::vector<std::string> args) {
-  std::string joined;
-  for (const std::string& arg : args) joined += arg + " ";
-  ParsedCommandLine parsed = parse(std::move(args));
-  EXPECT_FALSE(parsed.invocation.has_value()) << joined;
-  EXPECT_EQ(parsed.exit_code, kExitUsage) << joined;
-  EXPECT_EQ(parsed.text.find('\n'), std::string::npos) << parsed.text;
-}
+using testing::expect_usage_error;
+using testing::parse;
+using testing::parse_command;
 
 TEST(SpawnCommandLine, EveryOption) {
   const auto spawn = parse_command<SpawnCommand>(
