@@ -6,74 +6,25 @@
 #include <boost/asio.hpp>
 #include <gtest/gtest.h>
 
+#include "scripted_messages.h"
 #include "scripted_server.h"
 
 namespace tumble::client {
 namespace {
 
 using namespace std::chrono_literals;
+using testing::accept_hello;
+using testing::ack;
+using testing::body_list;
+using testing::error;
+using testing::pose_frame;
 using testing::ScriptedServer;
 using testing::ServerPeer;
+using testing::welcome;
 using tumble::v1::ServerMessage;
 using Clock = std::chrono::steady_clock;
 
 constexpr Timeout kGenerous = 5s;
-
-ServerMessage welcome(std::uint64_t tick) {
-  ServerMessage message;
-  auto& w = *message.mutable_welcome();
-  w.set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
-  w.set_server_version("scripted");
-  w.set_tick_rate_hz(240);
-  w.set_tick(tick);
-  w.set_body_count(2);
-  return message;
-}
-
-ServerMessage ack(std::uint64_t request_id, std::uint64_t applied_tick) {
-  ServerMessage message;
-  message.mutable_ack()->set_request_id(request_id);
-  message.mutable_ack()->set_applied_tick(applied_tick);
-  return message;
-}
-
-ServerMessage error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text) {
-  ServerMessage message;
-  message.mutable_error()->set_request_id(request_id);
-  message.mutable_error()->set_code(code);
-  message.mutable_error()->set_message(text);
-  return message;
-}
-
-ServerMessage body_list(std::uint64_t request_id, std::uint64_t tick) {
-  ServerMessage message;
-  message.mutable_body_list()->set_request_id(request_id);
-  message.mutable_body_list()->set_tick(tick);
-  return message;
-}
-
-ServerMessage pose_frame(std::uint32_t subscription, std::uint64_t tick) {
-  ServerMessage message;
-  auto& frame = *message.mutable_pose_frame();
-  frame.set_subscription_id(subscription);
-  frame.set_tick(tick);
-  frame.add_ids(4);
-  for (float v : {1.f, 2.f, 3.f}) frame.add_positions(v);
-  for (float v : {1.f, 0.f, 0.f, 0.f}) frame.add_orientations(v);
-  for (int k = 0; k < 3; ++k) {
-    frame.add_linear_velocities(0);
-    frame.add_angular_velocities(0);
-  }
-  return message;
-}
-
-// Reads the client's Hello and answers with Welcome at `tick`.
-void accept_hello(ServerPeer& peer, std::uint64_t tick = 7) {
-  auto hello = peer.receive();
-  ASSERT_TRUE(hello.has_value());
-  ASSERT_TRUE(hello->has_hello());
-  peer.send(welcome(tick));
-}
 
 tumble::v1::ApplyForce force_on(const char* name) {
   tumble::v1::ApplyForce force;

@@ -85,24 +85,35 @@ void ServerPeer::close() {
   socket_.close(ignored);
 }
 
-ScriptedServer::ScriptedServer(Script script)
-    : acceptor_(io_, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0)) {
+ScriptedServer::ScriptedServer(Script script) : ScriptedServer(std::vector<Script>{std::move(script)}) {}
+
+ScriptedServer::ScriptedServer(std::vector<Script> scripts, std::chrono::milliseconds refuse_for) : acceptor_(io_) {
+  acceptor_.open(tcp::v4());
+  acceptor_.bind(tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
   endpoint_ = Endpoint{"127.0.0.1", acceptor_.local_endpoint().port()};
-  thread_ = std::thread([this, script = std::move(script)] {
-    tcp::socket socket(io_);
-    bool accepted = false;
-    boost::system::error_code error;
-    acceptor_.async_accept(socket, [&](const boost::system::error_code& result) {
-      error = result;
-      accepted = true;
-    });
-    io_.run_for(kStepLimit);
-    if (!accepted || error) {
-      ADD_FAILURE() << "the client never connected to the scripted server";
-      return;
+  if (refuse_for == std::chrono::milliseconds::zero()) acceptor_.listen();
+  thread_ = std::thread([this, scripts = std::move(scripts), refuse_for] {
+    if (refuse_for > std::chrono::milliseconds::zero()) {
+      std::this_thread::sleep_for(refuse_for);
+      acceptor_.listen();
     }
-    ServerPeer peer(io_, std::move(socket));
-    script(peer);
+    for (std::size_t i = 0; i < scripts.size(); ++i) {
+      tcp::socket socket(io_);
+      bool accepted = false;
+      boost::system::error_code error;
+      acceptor_.async_accept(socket, [&](const boost::system::error_code& result) {
+        error = result;
+        accepted = true;
+      });
+      io_.restart();
+      io_.run_for(kStepLimit);
+      if (!accepted || error) {
+        ADD_FAILURE() << "the client never made connection " << i + 1 << " to the scripted server";
+        return;
+      }
+      ServerPeer peer(io_, std::move(socket));
+      scripts[i](peer);
+    }
   });
 }
 

@@ -1,15 +1,18 @@
-// ScriptedServer: a one-connection TCP server on 127.0.0.1 that plays a
-// test's script on its own thread, so Connection can be tested against
-// exactly the messages, bytes and closes a script chooses.
+// ScriptedServer: a TCP server on 127.0.0.1 that plays a test's scripts on
+// its own thread, one connection per script, so Connection and the commands
+// can be tested against exactly the messages, bytes and closes a script
+// chooses.
 //
 // Every operation of the server side gives up after a few seconds, so a
 // broken client fails its test instead of hanging it.
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include <boost/asio.hpp>
 
@@ -59,6 +62,13 @@ class ScriptedServer {
   // Listens on 127.0.0.1 at a free port, then on a thread accepts one
   // connection and runs `script` on it.
   explicit ScriptedServer(Script script);
+
+  // Takes a free port of 127.0.0.1 at once but refuses connections to it
+  // for `refuse_for` (bound, not listening); then listens and, on a thread,
+  // accepts one connection per script in order, running each script to its
+  // end before accepting the next.
+  explicit ScriptedServer(std::vector<Script> scripts,
+                          std::chrono::milliseconds refuse_for = std::chrono::milliseconds::zero());
 
   // Waits for the script to finish.
   ~ScriptedServer();

@@ -20,7 +20,9 @@
 #include <thread>
 #include <vector>
 
+#include "cli_helpers.h"
 #include "raw_client.h"
+#include "replies.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -34,9 +36,7 @@ using tumble::v1::ServerMessage;
 
 // Zero gravity: a body moves only when a request pushes it. The ball has
 // mass 1, so its speed is the sum of the impulses it took.
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [0, 0, 50]}]})";
+const char* const kScene = kFloatingScene;
 
 constexpr double kTickRate = 240;
 
@@ -101,12 +101,6 @@ ClientMessage probe(std::uint64_t id) {
   m.set_request_id(id);
   m.mutable_unsubscribe()->set_subscription_id(999999);
   return m;
-}
-
-bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
-  return (m.has_ack() && m.ack().request_id() == id) || (m.has_error() && m.error().request_id() == id) ||
-         (m.has_body_list() && m.body_list().request_id() == id) ||
-         (m.has_subscribed() && m.subscribed().request_id() == id) || (m.has_stats() && m.stats().request_id() == id);
 }
 
 std::string describe(const std::optional<ServerMessage>& m) { return m ? m->ShortDebugString() : "nothing"; }
@@ -679,7 +673,9 @@ TEST_F(BadInput, SlowNeverReadingSubscriberForThirtySeconds) {
             << 100 * tick_ratio << "% of " << kTickRate << " Hz); reader frames " << frames << " of "
             << expected_frames << " (" << 100 * frames / expected_frames << "%)" << std::endl;
   EXPECT_LT(growth_mib, 64.0);
-  EXPECT_GE(tick_ratio, 0.9);
+  // A server held up by the sleeper would stop stepping (a ratio near 0);
+  // other work on a shared machine costs tens of percent, so the floor is low.
+  EXPECT_GE(tick_ratio, 0.5);
   EXPECT_GE(static_cast<double>(frames), 0.9 * expected_frames);
 
   // The sleeper was subscribed all along and never disconnected: when it

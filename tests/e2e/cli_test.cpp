@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <thread>
 
+#include "cli_helpers.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -15,28 +15,8 @@ namespace {
 
 using nlohmann::json;
 
-// Zero gravity, so every motion comes from the commands alone; the ball is
-// far out of the crate's way (the crate moves in x and y, the ball in z).
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [0, 0, 50]}]})";
-
-constexpr double kDt = 1.0 / 240.0;
-
-class CliTest : public ::testing::Test {
+class CliTest : public FloatingSceneTest {
  protected:
-  void SetUp() override { ASSERT_TRUE(server_.started()) << server_.log(); }
-
-  // Runs a --json command that must succeed and print one JSON object.
-  json run_json(std::vector<std::string> args) {
-    args.insert(args.begin(), "--json");
-    const CommandResult result = server_.cli(args);
-    EXPECT_EQ(result.exit_code, 0) << "stderr: " << result.err;
-    const json parsed = json::parse(result.out, nullptr, false);
-    EXPECT_FALSE(parsed.is_discarded()) << "stdout: " << result.out;
-    return parsed;
-  }
-
   // The body list once the server has stepped at least to `tick`.
   json bodies_at_or_after(std::uint64_t tick) {
     for (int attempt = 0; attempt < 600; ++attempt) {
@@ -48,16 +28,6 @@ class CliTest : public ::testing::Test {
     return {};
   }
 
-  static const json& body(const json& list, const std::string& name) {
-    for (const json& b : list["bodies"]) {
-      if (b["name"] == name) return b;
-    }
-    static const json kNone;
-    ADD_FAILURE() << "no body " << name << " in " << list.dump();
-    return kNone;
-  }
-
-  TumbledProcess server_{kScene};
 };
 
 TEST_F(CliTest, BodiesListsTheScene) {
@@ -121,10 +91,8 @@ TEST_F(CliTest, SubscribePrintsOneJsonLinePerFrameAtTheRate) {
   const CommandResult result =
       server_.cli({"--json", "subscribe", "--bodies", "crate", "--rate", "30", "--count", "4"});
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  std::istringstream lines(result.out);
-  std::string line;
   std::vector<std::uint64_t> ticks;
-  while (std::getline(lines, line)) {
+  for (const std::string& line : lines_of(result.out)) {
     const json frame = json::parse(line, nullptr, false);
     ASSERT_FALSE(frame.is_discarded()) << line;
     ASSERT_EQ(frame["bodies"].size(), 1u) << line;
@@ -154,10 +122,9 @@ TEST_F(CliTest, SubscribeShowsAForceTakingEffect) {
       server_.cli({"--json", "subscribe", "--bodies", "ball", "--rate", "60", "--count", "120"});
   push.join();
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  std::istringstream lines(result.out);
-  std::string line;
-  std::string last;
-  while (std::getline(lines, line)) last = line;
+  const std::vector<std::string> lines = lines_of(result.out);
+  ASSERT_FALSE(lines.empty());
+  const std::string& last = lines.back();
   const json frame = json::parse(last);
   EXPECT_FLOAT_EQ(frame["bodies"][0]["linear_velocity"][2].get<float>(), 5.0f) << last;
 }
@@ -167,11 +134,7 @@ std::vector<json> subscribe_lines(TumbledProcess& server, std::vector<std::strin
   args.insert(args.begin(), {"--json", "subscribe"});
   const CommandResult result = server.cli(args);
   EXPECT_EQ(result.exit_code, 0) << result.err;
-  std::vector<json> frames;
-  std::istringstream lines(result.out);
-  std::string line;
-  while (std::getline(lines, line)) frames.push_back(json::parse(line, nullptr, false));
-  return frames;
+  return json_lines(result.out);
 }
 
 // Largest |a[k] - b[k]| of two JSON arrays of numbers.
@@ -258,7 +221,7 @@ TEST(CliConnection, RefusedConnectionIsAOneLineFailure) {
 }
 
 TEST(CliConnection, ServerFromTheEnvironment) {
-  TumbledProcess server(kScene);
+  TumbledProcess server(kFloatingScene);
   ASSERT_TRUE(server.started());
   ::setenv("TUMBLE_SERVER", server.server().c_str(), 1);
   const CommandResult result = run_command({tumble_cli_path(), "--json", "bodies"});

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <thread>
 
+#include "cli_helpers.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -14,34 +14,8 @@ namespace {
 
 using nlohmann::json;
 
-// Zero gravity: every motion comes from the commands alone.
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [0, 0, 50]}]})";
-
-constexpr double kDt = 1.0 / 240.0;
-
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-class ControlCliTest : public ::testing::Test {
+class ControlCliTest : public FloatingSceneTest {
  protected:
-  void SetUp() override { ASSERT_TRUE(server_.started()) << server_.log(); }
-
-  // Runs a --json command that must succeed and print one JSON object.
-  json run_json(std::vector<std::string> args) {
-    args.insert(args.begin(), "--json");
-    const CommandResult result = server_.cli(args);
-    EXPECT_EQ(result.exit_code, 0) << "tumble " << args[1] << ": " << result.err;
-    const json parsed = json::parse(result.out, nullptr, false);
-    EXPECT_FALSE(parsed.is_discarded()) << "stdout: " << result.out;
-    return parsed;
-  }
-
   // A command that must fail with exit status 1 and name `code` on stderr.
   void expect_server_error(const std::vector<std::string>& args, const std::string& code) {
     const CommandResult result = server_.cli(args);
@@ -49,17 +23,9 @@ class ControlCliTest : public ::testing::Test {
     EXPECT_NE(result.err.find(code), std::string::npos) << result.err;
   }
 
-  static const json* find_body(const json& list, const std::string& name) {
-    for (const json& b : list["bodies"]) {
-      if (b["name"] == name) return &b;
-    }
-    return nullptr;
-  }
-
   // Pauses the server and returns the tick it stays at.
   std::uint64_t pause() { return run_json({"pause"})["applied_tick"].get<std::uint64_t>(); }
 
-  TumbledProcess server_{kScene};
 };
 
 TEST_F(ControlCliTest, SpawnedBodiesAppearInBodies) {
@@ -88,7 +54,7 @@ TEST_F(ControlCliTest, SpawnedBodiesAppearInBodies) {
 
 TEST_F(ControlCliTest, SpawnRefusesADuplicateNameAndOneTooMany) {
   expect_server_error({"spawn", "crate", "--sphere", "1"}, "INVALID_ARGUMENT");
-  TumbledProcess small(kScene, {"--max-bodies", "3"});
+  TumbledProcess small(kFloatingScene, {"--max-bodies", "3"});
   ASSERT_TRUE(small.started()) << small.log();
   EXPECT_EQ(small.cli({"spawn", "one", "--sphere", "1"}).exit_code, 0);
   const CommandResult over = small.cli({"spawn", "two", "--sphere", "1"});
@@ -275,6 +241,23 @@ TEST_F(ControlCliTest, WatchJsonShowsSpeedAndSleep) {
   EXPECT_EQ(table["bodies"][0]["name"], "ball");
   EXPECT_NEAR(table["bodies"][0]["speed"].get<double>(), 5.0, 1e-6);
   EXPECT_EQ(table["bodies"][0]["asleep"], false);
+}
+
+TEST_F(ControlCliTest, WatchShowsTheSameTableInEveryEncoding) {
+  // Paused at a speed of 5 m/s off every grid; every encoding prints it
+  // within the quantization's error (1/128 m/s a component).
+  pause();
+  run_json({"set", "ball", "--velocity", "3.001", "4.002", "0"});
+  for (const char* encoding : {"full", "quantized", "delta"}) {
+    const CommandResult result = server_.cli({"--json", "watch", "--encoding", encoding, "--count", "1"});
+    ASSERT_EQ(result.exit_code, 0) << encoding << ": " << result.err;
+    const json table = json::parse(result.out);
+    ASSERT_EQ(table["bodies"].size(), 2u) << encoding;
+    EXPECT_EQ(table["bodies"][0]["name"], "crate") << encoding;
+    EXPECT_EQ(table["bodies"][1]["name"], "ball") << encoding;
+    EXPECT_NEAR(table["bodies"][1]["speed"].get<double>(), 5.0022, 0.01) << encoding;
+    EXPECT_NEAR(table["bodies"][1]["position"][2].get<double>(), 50.0, 0.5 / 1024 + 1e-6) << encoding;
+  }
 }
 
 TEST_F(ControlCliTest, SubscribeCanAskForPosesOnlyAndEvents) {

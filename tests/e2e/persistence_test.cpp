@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "cli_helpers.h"
 #include "sim/state_file.h"
 #include "tumbled_process.h"
 
@@ -16,11 +17,6 @@ namespace tumble::test {
 namespace {
 
 using nlohmann::json;
-
-// Zero gravity: every motion comes from the commands alone.
-const char* kFloating = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [0, 0, 50]}]})";
 
 // Contacts, sleep, friction and bounces: what a replay must reproduce.
 const char* kPile = R"({"bodies": [
@@ -30,29 +26,6 @@ const char* kPile = R"({"bodies": [
     {"name": "c", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 1, "position": [-0.1, 2.5, 0.1]},
     {"name": "ball", "shape": {"sphere": {"radius": 0.3}}, "mass": 1, "restitution": 0.7, "position": [3, 4, 0]},
     {"name": "pill", "shape": {"capsule": {"radius": 0.2, "half_height": 0.4}}, "mass": 1, "position": [-3, 1, 0]}]})";
-
-json run_json(const TumbledProcess& server, std::vector<std::string> args) {
-  args.insert(args.begin(), "--json");
-  const CommandResult result = server.cli(args);
-  EXPECT_EQ(result.exit_code, 0) << "tumble " << args[1] << ": " << result.err;
-  const json parsed = json::parse(result.out, nullptr, false);
-  EXPECT_FALSE(parsed.is_discarded()) << "stdout: " << result.out;
-  return parsed;
-}
-
-void run_ok(const TumbledProcess& server, const std::vector<std::string>& args) {
-  const CommandResult result = server.cli(args);
-  ASSERT_EQ(result.exit_code, 0) << "tumble " << args[0] << ": " << result.err;
-}
-
-const json& body(const json& list, const std::string& name) {
-  for (const json& b : list["bodies"]) {
-    if (b["name"] == name) return b;
-  }
-  ADD_FAILURE() << "no body " << name;
-  static const json none;
-  return none;
-}
 
 // SIGTERM, and the exit code.
 int terminate(TumbledProcess& server) {
@@ -64,7 +37,7 @@ TEST(Persistence, SigtermSavesTheWorldAndAStartResumesItExactly) {
   const std::string state = make_temp_dir() + "/world.state";
   json before;
   {
-    TumbledProcess saving(kFloating, {"--state", state});
+    TumbledProcess saving(kFloatingScene, {"--state", state});
     ASSERT_TRUE(saving.started()) << saving.log();
     run_ok(saving, {"impulse", "crate", "--impulse", "2", "0", "0"});
     run_ok(saving, {"force", "ball", "--force", "1", "0", "0", "--persistent"});
@@ -101,7 +74,7 @@ TEST(Persistence, SigtermSavesTheWorldAndAStartResumesItExactly) {
 
 TEST(Persistence, CheckpointsBoundWhatAKillLoses) {
   const std::string state = make_temp_dir() + "/world.state";
-  TumbledProcess server(kFloating, {"--state", state, "--checkpoint-interval", "0.25"});
+  TumbledProcess server(kFloatingScene, {"--state", state, "--checkpoint-interval", "0.25"});
   ASSERT_TRUE(server.started()) << server.log();
   run_ok(server, {"impulse", "crate", "--impulse", "2", "0", "0"});
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
@@ -189,7 +162,7 @@ TEST(Persistence, AReplayRefusesAnotherScene) {
   const std::string dir = make_temp_dir();
   const std::string journal = dir + "/run.journal";
   {
-    TumbledProcess server(kFloating, {"--record", journal});
+    TumbledProcess server(kFloatingScene, {"--record", journal});
     ASSERT_TRUE(server.started()) << server.log();
     ASSERT_EQ(terminate(server), 0);
   }

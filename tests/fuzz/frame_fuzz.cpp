@@ -10,8 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include <google/protobuf/stubs/logging.h>
-
+#include "quiet_logs.h"
 #include "sim/request_check.h"
 #include "tumble/v1/protocol.pb.h"
 #include "wire/frame.h"
@@ -34,11 +33,7 @@ void check_round_trip(const tumble::v1::ClientMessage& message) {
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  // Parse failures are expected by the thousand; their log lines only slow the run.
-  google::protobuf::SetLogHandler(nullptr);
-  return 0;
-}
+extern "C" int LLVMFuzzerInitialize(int*, char***) { return tumble::fuzz::silence_logs(); }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;

@@ -8,9 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include <google/protobuf/stubs/logging.h>
-#include <spdlog/spdlog.h>
-
+#include "quiet_logs.h"
 #include "sim/body_spec.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -26,12 +24,7 @@ constexpr int kMaxBodies = 64;
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  // Parse failures are expected by the thousand; their log lines only slow the run.
-  google::protobuf::SetLogHandler(nullptr);
-  spdlog::set_level(spdlog::level::off);
-  return 0;
-}
+extern "C" int LLVMFuzzerInitialize(int*, char***) { return tumble::fuzz::silence_logs(); }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

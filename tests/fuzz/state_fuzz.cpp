@@ -6,9 +6,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include <google/protobuf/stubs/logging.h>
-#include <spdlog/spdlog.h>
-
+#include "quiet_logs.h"
 #include "physics/world.h"
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
@@ -23,12 +21,7 @@ constexpr double kDt = 1.0 / 240;
 
 }  // namespace
 
-extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  // Parse failures are expected by the thousand; their log lines only slow the run.
-  google::protobuf::SetLogHandler(nullptr);
-  spdlog::set_level(spdlog::level::off);
-  return 0;
-}
+extern "C" int LLVMFuzzerInitialize(int*, char***) { return tumble::fuzz::silence_logs(); }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   tumble::v1::WorldState state;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "raw_client.h"
+#include "replies.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -20,13 +21,6 @@ using tumble::v1::ServerMessage;
 const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
     {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
-
-bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
-  return (m.has_ack() && m.ack().request_id() == id) || (m.has_error() && m.error().request_id() == id) ||
-         (m.has_body_list() && m.body_list().request_id() == id) ||
-         (m.has_subscribed() && m.subscribed().request_id() == id) ||
-         (m.has_stats() && m.stats().request_id() == id);
-}
 
 ClientMessage spawn(std::uint64_t id, const std::string& name, double radius) {
   ClientMessage m;

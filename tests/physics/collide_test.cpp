@@ -358,18 +358,11 @@ TEST(CollidePlaneTest, HullWithManyVerticesNearThePlaneKeepsItsDeepest) {
   ASSERT_NE(hull, nullptr);
   const Shape prism = convex_hull_shape(hull);
   const double depth = 0.003;
-  for (int direction = 0; direction < 36; ++direction) {
-    const double phi = 2.0 * kPi * direction / 36;
-    Transform t = pose(Vec3::Zero(), rotation_about(Vec3(std::cos(phi), 0.0, std::sin(phi)), 0.004));
-    double lowest = INFINITY;
-    for (const Vec3& v : hull->vertices) lowest = std::min(lowest, t.apply(v).y());
-    t.position.y() = -lowest - depth;
+  for (const testing::Lean& lean : testing::leaning_poses(*hull, 0.004, depth)) {
     Manifold m;
-    collide(prism, t, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kMargin, m);
+    collide(prism, lean.pose, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kMargin, m);
     ASSERT_EQ(m.point_count, 4);
-    double deepest = INFINITY;
-    for (int k = 0; k < m.point_count; ++k) deepest = std::min(deepest, m.points[k].separation);
-    EXPECT_NEAR(deepest, -depth, 1e-12) << "leaning towards " << phi << " rad";
+    EXPECT_NEAR(testing::deepest_separation(m), -depth, 1e-12) << "leaning towards " << lean.direction << " rad";
   }
 }
 

@@ -1,7 +1,7 @@
 // Small builders for the narrowphase, hull and GJK tests: poses, the corner
 // sets of boxes, prisms and regular solids, hulls centred on their centre of mass,
-// random rotations, and point-to-surface distances of boxes and hulls.
-// Header-only.
+// random rotations, point-to-surface distances of boxes and hulls, hulls
+// leaning into a surface, and a manifold's deepest point. Header-only.
 #pragma once
 
 #include <algorithm>
@@ -106,6 +106,35 @@ inline double hull_surface_height(const Vec3& local, const ConvexHull& hull) {
   double height = -INFINITY;
   for (const ConvexHull::Face& face : hull.faces) height = std::max(height, face.normal.dot(local) - face.offset);
   return height;
+}
+
+// A hull tilted by `tilt` rad about a horizontal axis, and sunk so that its
+// lowest vertex is `depth` m below the plane y = 0.
+struct Lean {
+  Transform pose;
+  double direction = 0;  // rad about +y: the tilt axis is (cos, 0, sin) of it
+};
+
+// The hull leaning each of `directions` ways, evenly spread around +y.
+inline std::vector<Lean> leaning_poses(const ConvexHull& hull, double tilt, double depth, int directions = 36) {
+  std::vector<Lean> leans;
+  for (int i = 0; i < directions; ++i) {
+    const double phi = 2.0 * std::numbers::pi * i / directions;
+    Transform t = pose(Vec3::Zero(), rotation_about(Vec3(std::cos(phi), 0.0, std::sin(phi)), tilt));
+    double lowest = INFINITY;
+    for (const Vec3& v : hull.vertices) lowest = std::min(lowest, t.apply(v).y());
+    t.position.y() = -lowest - depth;
+    leans.push_back(Lean{t, phi});
+  }
+  return leans;
+}
+
+// The smallest separation of a manifold's points (the deepest
+// penetration, negative); infinity when it has none.
+inline double deepest_separation(const Manifold& m) {
+  double deepest = INFINITY;
+  for (int k = 0; k < m.point_count; ++k) deepest = std::min(deepest, m.points[k].separation);
+  return deepest;
 }
 
 }  // namespace tumble::physics::testing

@@ -238,18 +238,11 @@ TEST(HullCollideTest, SixtyFourSidedFaceOnBoxKeepsItsDeepest) {
   ASSERT_NE(hull, nullptr);
   const Shape prism = convex_hull_shape(hull);
   const double depth = 0.003;
-  for (int direction = 0; direction < 36; ++direction) {
-    const double phi = 2.0 * kPi * direction / 36;
-    Transform t = pose(Vec3::Zero(), rotation_about(Vec3(std::cos(phi), 0.0, std::sin(phi)), 0.004));
-    double lowest = INFINITY;
-    for (const Vec3& v : hull->vertices) lowest = std::min(lowest, t.apply(v).y());
-    t.position.y() = -lowest - depth;
+  for (const testing::Lean& lean : testing::leaning_poses(*hull, 0.004, depth)) {
     Manifold m;
-    collide(box_shape(Vec3(3.0, 0.5, 3.0)), pose(Vec3(0.0, -0.5, 0.0)), prism, t, kMargin, m);
+    collide(box_shape(Vec3(3.0, 0.5, 3.0)), pose(Vec3(0.0, -0.5, 0.0)), prism, lean.pose, kMargin, m);
     ASSERT_EQ(m.point_count, 4);
-    double deepest = INFINITY;
-    for (int k = 0; k < m.point_count; ++k) deepest = std::min(deepest, m.points[k].separation);
-    EXPECT_NEAR(deepest, -depth, 1e-12) << "leaning towards " << phi << " rad";
+    EXPECT_NEAR(testing::deepest_separation(m), -depth, 1e-12) << "leaning towards " << lean.direction << " rad";
   }
 }
 

@@ -90,9 +90,13 @@ CommandResult run_command(const std::vector<std::string>& argv, std::chrono::mil
   return result;
 }
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path) {
-  if (argv.empty() || log_path.empty()) return;
-  pid_ = spawn(argv, log_path, log_path);
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path)
+    : ChildProcess(argv, log_path, log_path) {}
+
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& out_path,
+                           const std::string& err_path) {
+  if (argv.empty() || out_path.empty() || err_path.empty()) return;
+  pid_ = spawn(argv, out_path, err_path);
 }
 
 ChildProcess::~ChildProcess() {

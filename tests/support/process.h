@@ -27,6 +27,8 @@ class ChildProcess {
  public:
   // Starts `argv` with stdout and stderr appended to `log_path`.
   ChildProcess(const std::vector<std::string>& argv, const std::string& log_path);
+  // Starts `argv` with stdout appended to `out_path` and stderr to `err_path`.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& out_path, const std::string& err_path);
   ~ChildProcess();
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

@@ -51,10 +51,12 @@ std::optional<tumble::v1::ServerMessage> RawClient::handshake(const std::string&
   return read();
 }
 
-bool RawClient::fill(std::chrono::milliseconds timeout) {
+bool RawClient::fill(Clock::time_point deadline) {
   if (eof_) return false;
+  const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+  if (left.count() <= 0) return false;
   pollfd p{fd_, POLLIN, 0};
-  const int ready = ::poll(&p, 1, static_cast<int>(timeout.count()));
+  const int ready = ::poll(&p, 1, static_cast<int>(left.count()));
   if (ready <= 0) return false;
   char buffer[65536];
   const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
@@ -66,28 +68,11 @@ bool RawClient::fill(std::chrono::milliseconds timeout) {
   return true;
 }
 
-std::optional<tumble::v1::ServerMessage> RawClient::read(std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  for (;;) {
-    std::string_view body;
-    const wire::FrameStatus status = reader_.next(body);
-    if (status == wire::FrameStatus::frame) {
-      tumble::v1::ServerMessage message;
-      if (!message.ParseFromArray(body.data(), static_cast<int>(body.size()))) return std::nullopt;
-      return message;
-    }
-    if (status != wire::FrameStatus::need_more) return std::nullopt;
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0 || !fill(left)) return std::nullopt;
-  }
-}
-
 bool RawClient::closed_by_server(std::chrono::milliseconds timeout) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const Clock::time_point deadline = Clock::now() + timeout;
   while (!eof_) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) return false;
-    fill(left);
+    if (Clock::now() >= deadline) return false;
+    fill(deadline);
   }
   return true;
 }

@@ -17,9 +17,14 @@ class TestServer {
   // Loads `scene_json` and starts stepping at `tick_rate_hz`.
   explicit TestServer(const std::string& scene_json, double tick_rate_hz = 240,
                       net::SessionLimits limits = net::SessionLimits{});
+  // The same with a whole server configuration; its ports are replaced by
+  // ephemeral ones of 127.0.0.1 (the HTTP one only with serve_http).
+  TestServer(const std::string& scene_json, double tick_rate_hz, net::ServerConfig config);
   ~TestServer();
 
   std::uint16_t port() const { return port_; }
+  // The HTTP endpoint's port; 0 unless the configuration has serve_http.
+  std::uint16_t http_port() const { return http_port_; }
   sim::Simulation& sim() { return *sim_; }
 
   // Runs `task` on the I/O thread and waits for it.
@@ -31,6 +36,7 @@ class TestServer {
   std::unique_ptr<net::Server> server_;
   std::thread io_thread_;
   std::uint16_t port_ = 0;
+  std::uint16_t http_port_ = 0;
 };
 
 }  // namespace tumble::test

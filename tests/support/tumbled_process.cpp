@@ -8,13 +8,14 @@ namespace tumble::test {
 const char* tumbled_path() { return TUMBLE_TUMBLED_PATH; }
 const char* tumble_cli_path() { return TUMBLE_CLI_PATH; }
 
-TumbledProcess::TumbledProcess(const std::string& scene_json, const std::vector<std::string>& extra_args)
+TumbledProcess::TumbledProcess(const std::string& scene_json, const std::vector<std::string>& extra_args,
+                               std::uint16_t port)
     : dir_(make_temp_dir()), log_path_(dir_ + "/tumbled.log") {
   const std::string scene_path = dir_ + "/scene.json";
   const std::string port_path = dir_ + "/port";
   std::ofstream(scene_path) << scene_json;
-  std::vector<std::string> argv = {tumbled_path(), "--scene", scene_path, "--listen", "127.0.0.1:0",
-                                   "--port-file", port_path};
+  std::vector<std::string> argv = {tumbled_path(), "--scene", scene_path, "--listen",
+                                   "127.0.0.1:" + std::to_string(port), "--port-file", port_path};
   argv.insert(argv.end(), extra_args.begin(), extra_args.end());
   process_ = std::make_unique<ChildProcess>(argv, log_path_);
   // Generous: a loaded machine or a sanitizer build can take seconds to start.

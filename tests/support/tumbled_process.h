@@ -14,9 +14,12 @@ namespace tumble::test {
 
 class TumbledProcess {
  public:
-  // Writes `scene_json` to a file and starts tumbled on it with `extra_args`.
-  // Check started(); the log is in log_path().
-  explicit TumbledProcess(const std::string& scene_json, const std::vector<std::string>& extra_args = {});
+  // Writes `scene_json` to a file and starts tumbled on it with `extra_args`,
+  // listening on 127.0.0.1:`port` (0: a free port; another, e.g. the port of
+  // an earlier run, to restart a server where its clients expect it).
+  // Check started(); the log is in log().
+  explicit TumbledProcess(const std::string& scene_json, const std::vector<std::string>& extra_args = {},
+                          std::uint16_t port = 0);
 
   bool started() const { return port_ != 0; }
   std::uint16_t port() const { return port_; }
