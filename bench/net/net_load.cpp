@@ -1,14 +1,14 @@
 // net_load: a load generator for tumbled's pose streams. It spawns a world
-// of B spheres (a fraction of them spinning in place, the rest at rest),
-// opens S subscribers at R Hz in one encoding, and after D seconds prints
-// one line: bytes per body per frame, frames received against expected,
-// force-to-visible latency and the server's overruns (see README.md).
-//
-// Latency: a controller sets a probe body's velocity to a new value every
-// 100 to 150 ms (varied, so the changes fall at every phase of the frame
-// period); a watcher subscribed to the probe alone, at the same rate and
-// encoding, timestamps the first frame that shows it. The figure includes
-// the wait for the next frame (up to one period), as a client sees it.
+// (bench/net/load_world.h) into a running tumbled, opens S subscribers to
+// its B bodies at R Hz, and measures on the client side, over D seconds:
+// bytes per body per frame, frames received against expected, the
+// force-to-visible latency (bench/net/latency_probe.h), and from the server
+// its overruns (GetStats) and CPU (/proc, when it runs on this machine).
+// Optionally it also sends world-changing requests at a fixed rate
+// (bench/net/command_load.h). It prints one line of key=value fields
+// (bench/README.md), and exits 3 when any request or stream failed.
+#include <sys/types.h>
+
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
@@ -16,55 +16,69 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <mutex>
+#include <limits>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include "tumble_client/connection.h"
-#include "tumble_client/endpoint.h"
+#include "command_load.h"
+#include "latency_probe.h"
+#include "load_connection.h"
+#include "load_world.h"
+#include "process_cpu.h"
 #include "tumble_client/pose_stream.h"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-using tumble::client::Connection;
+using tumble::bench::LoadTarget;
 
 struct Options {
-  std::string server = "127.0.0.1:7400";
-  std::string token;
+  LoadTarget target;
+  std::string world = "field";
   unsigned subscribers = 8;
   unsigned bodies = 1000;
   double rate_hz = 30;
   std::string encoding = "full";
   double seconds = 10;
-  double moving = 0.1;  // fraction of the bodies that spin
+  double moving = 0.1;
+  bool kinematic_movers = false;
+  bool settle = false;
+  double commands_per_second = 0;
+  pid_t server_pid = 0;
+  unsigned spawners = 16;
 };
 
-// What one subscriber counted.
+// The measured window, set once every subscriber is in; a subscriber counts
+// the frames that arrive inside it and stops at its end.
+struct Window {
+  std::atomic<Clock::rep> start{std::numeric_limits<Clock::rep>::max()};
+  std::atomic<Clock::rep> end{std::numeric_limits<Clock::rep>::max()};
+  bool contains(Clock::time_point t) const {
+    const Clock::rep at = t.time_since_epoch().count();
+    return at >= start.load() && at < end.load();
+  }
+  bool over(Clock::time_point t) const { return t.time_since_epoch().count() >= end.load(); }
+};
+
+// What one subscriber counted inside the window.
 struct Tally {
   std::uint64_t frames = 0;
   std::uint64_t bytes = 0;        // PoseFrame messages as framed on the wire
-  std::uint64_t body_slots = 0;   // bodies the frames stood for (after completion)
+  std::uint64_t body_slots = 0;   // bodies the frames stood for (DELTA: after completion)
+  double max_bytes_per_body = 0;  // of the largest frame for its bodies
+  std::uint64_t errors = 0;       // a stream that broke or did not decode
 };
 
-[[noreturn]] void fail(const std::string& what, const tumble::client::Failure& failure) {
-  std::fprintf(stderr, "net_load: %s: %s\n", what.c_str(), failure.message.c_str());
-  std::exit(1);
-}
-
-Connection connect(const Options& options, const std::string& name) {
-  auto endpoint = tumble::client::parse_endpoint(options.server);
-  if (!endpoint) fail("server", endpoint.failure());
-  auto connection = Connection::connect(*endpoint, name, options.token, std::chrono::seconds(10));
-  if (!connection) fail("connect", connection.failure());
-  return std::move(*connection);
-}
-
-tumble::v1::PoseEncoding encoding_of(const std::string& name) {
-  if (name == "quantized") return tumble::v1::POSE_ENCODING_QUANTIZED;
-  if (name == "delta") return tumble::v1::POSE_ENCODING_DELTA;
+tumble::v1::PoseEncoding encoding_of(const std::string& name, unsigned index) {
+  // "mixed": the subscribers take full, quantized and delta in turn.
+  const std::string chosen = name == "mixed" ? std::string(index % 3 == 0   ? "full"
+                                                           : index % 3 == 1 ? "quantized"
+                                                                            : "delta")
+                                             : name;
+  if (chosen == "quantized") return tumble::v1::POSE_ENCODING_QUANTIZED;
+  if (chosen == "delta") return tumble::v1::POSE_ENCODING_DELTA;
   return tumble::v1::POSE_ENCODING_FULL;
 }
 
@@ -76,117 +90,75 @@ std::uint64_t framed_size(const tumble::v1::ServerMessage& message) {
   return body + prefix;
 }
 
-// Spawns the world: spheres on a 0.5 m grid, every 1/moving-th one spinning;
-// retries the spawns the server's request rate refuses. Returns the probe's id.
-std::uint32_t spawn_world(Connection& controller, const Options& options) {
-  const auto side = static_cast<unsigned>(std::ceil(std::sqrt(static_cast<double>(options.bodies))));
-  const unsigned spin_every = options.moving > 0 ? static_cast<unsigned>(std::lround(1 / options.moving)) : 0;
-  for (unsigned i = 0; i <= options.bodies; ++i) {
-    tumble::v1::BodySpec spec;
-    spec.mutable_shape()->mutable_sphere()->set_radius(0.2);
-    spec.set_mass(1);
-    if (i == options.bodies) {  // the probe, far from the others
-      spec.set_name("net_load_probe");
-      spec.mutable_position()->set_x(-100);
-    } else {
-      spec.mutable_position()->set_x(100 + 0.5 * (i % side));
-      spec.mutable_position()->set_y(0.5 * (i / side));
-      if (spin_every > 0 && i % spin_every == 0) spec.mutable_angular_velocity()->set_z(1);
-    }
-    for (;;) {
-      auto ack = controller.spawn_body(spec, std::chrono::seconds(10));
-      if (ack) {
-        if (i == options.bodies) return ack->body_id();
-        break;
-      }
-      if (ack.failure().code != tumble::v1::RATE_LIMITED) fail("spawn", ack.failure());
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  }
-  return 0;
-}
-
-void subscribe_all(Connection& connection, const Options& options, std::optional<std::uint32_t> only,
-                   tumble::v1::PoseFields fields) {
+// One subscriber: subscribes to `bodies`, reports in through `ready` once
+// its first frame came, then counts inside the window. Frames are checked
+// and DELTA ones applied (PoseStream::apply), not converted to floats: the
+// load generator shares the machine with the server.
+Tally run_subscriber(const Options& options, unsigned index, const std::vector<std::uint32_t>& bodies,
+                     std::atomic<unsigned>& ready, const Window& window) {
+  tumble::client::Connection connection =
+      tumble::bench::connect_or_exit(options.target, "net_load-" + std::to_string(index));
   tumble::v1::Subscribe request;
   request.set_rate_hz(options.rate_hz);
-  request.set_fields(fields);
-  request.set_encoding(encoding_of(options.encoding));
-  if (only) request.add_bodies()->set_id(*only);
-  auto subscribed = connection.subscribe(request, std::chrono::seconds(10));
-  if (!subscribed) fail("subscribe", subscribed.failure());
-}
+  request.set_fields(tumble::v1::POSE_FIELDS_POSE);
+  request.set_encoding(encoding_of(options.encoding, index));
+  for (const std::uint32_t id : bodies) request.add_bodies()->set_id(id);
+  auto subscribed = connection.subscribe(request, std::chrono::seconds(30));
+  if (!subscribed) tumble::bench::exit_with("subscribe", subscribed.failure());
 
-// One subscriber: counts frames and bytes until `end`.
-Tally run_subscriber(const Options& options, unsigned index, Clock::time_point start, Clock::time_point end) {
-  Connection connection = connect(options, "net_load-" + std::to_string(index));
-  subscribe_all(connection, options, std::nullopt, tumble::v1::POSE_FIELDS_POSE);
   tumble::client::PoseStream stream;
   Tally tally;
-  while (Clock::now() < end) {
+  bool first = true;
+  while (!window.over(Clock::now())) {
     auto message = connection.next_message(std::chrono::milliseconds(100));
     if (!message) {
       if (message.failure().kind == tumble::client::FailureKind::timeout) continue;
-      fail("subscriber", message.failure());
+      std::fprintf(stderr, "net_load: subscriber %u: %s\n", index, message.failure().message.c_str());
+      ++tally.errors;
+      break;
     }
     if (!message->has_pose_frame()) continue;
-    auto sample = stream.decode(message->pose_frame());
-    if (!sample) fail("decode", sample.failure());
-    if (Clock::now() < start) continue;  // the key frame and the warm-up are not counted
+    const Clock::time_point arrived = Clock::now();
+    auto count = stream.apply(message->pose_frame());
+    if (!count) {
+      std::fprintf(stderr, "net_load: subscriber %u: %s\n", index, count.failure().message.c_str());
+      ++tally.errors;
+      break;
+    }
+    if (first) {
+      first = false;
+      ++ready;
+    }
+    if (!window.contains(arrived)) continue;
+    const std::uint64_t bytes = framed_size(*message);
     ++tally.frames;
-    tally.bytes += framed_size(*message);
-    tally.body_slots += sample->bodies.size();
+    tally.bytes += bytes;
+    tally.body_slots += *count;
+    if (*count > 0) {
+      tally.max_bytes_per_body =
+          std::max(tally.max_bytes_per_body, static_cast<double>(bytes) / static_cast<double>(*count));
+    }
   }
+  if (first) ++ready;  // never got going: do not hold the others up
   return tally;
 }
 
-// Sets the probe's x velocity to a new value every 100 to 150 ms and times
-// the first frame showing each; returns the latencies in ms.
-std::vector<double> measure_latency(const Options& options, std::uint32_t probe, Clock::time_point end) {
-  Connection controller = connect(options, "net_load-controller");
-  Connection watcher = connect(options, "net_load-watcher");
-  subscribe_all(watcher, options, probe, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
-  tumble::client::PoseStream stream;
-  std::vector<double> latencies;
-  for (int step = 1; Clock::now() + std::chrono::milliseconds(200) < end; ++step) {
-    // Cycles through 0.5 .. 4 m/s, each different from the last, and puts
-    // the probe back to its start so that it never reaches the others.
-    const double speed = 0.5 * (1 + step % 8);
-    tumble::v1::SetBodyState set;
-    set.mutable_body()->set_id(probe);
-    set.mutable_position()->set_x(-100);
-    set.mutable_linear_velocity()->set_x(speed);
-    const Clock::time_point sent = Clock::now();
-    auto ack = controller.set_body_state(set, std::chrono::seconds(10));
-    if (!ack) fail("set probe velocity", ack.failure());
-    // A change not seen within 2 s is lost: it shows in latency_samples only.
-    const Clock::time_point give_up = sent + std::chrono::seconds(2);
-    while (Clock::now() < give_up) {
-      auto message = watcher.next_message(std::chrono::milliseconds(100));
-      if (!message) {
-        if (message.failure().kind == tumble::client::FailureKind::timeout) continue;
-        fail("watcher", message.failure());
-      }
-      if (!message->has_pose_frame()) continue;
-      auto sample = stream.decode(message->pose_frame());
-      if (!sample) fail("decode", sample.failure());
-      if (sample->bodies.empty()) continue;
-      const double seen = static_cast<double>(sample->bodies[0].linear_velocity[0]);
-      if (std::abs(seen - speed) > 0.01) continue;
-      latencies.push_back(std::chrono::duration<double, std::milli>(Clock::now() - sent).count());
-      break;
-    }
-    // 100 ms plus 0..49 ms in steps of 7 ms, which is prime to the pause's length.
-    std::this_thread::sleep_for(std::chrono::milliseconds(100 + (7 * step) % 50));
-  }
-  return latencies;
+tumble::v1::Stats stats_or_exit(tumble::client::Connection& controller) {
+  auto stats = controller.get_stats(std::chrono::seconds(10));
+  if (!stats) tumble::bench::exit_with("stats", stats.failure());
+  return *stats;
 }
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const auto index = static_cast<std::size_t>(std::ceil(p * static_cast<double>(values.size()))) - 1;
-  return values[std::min(index, values.size() - 1)];
+// Waits until the bodies that come to rest are asleep (at most 60 s).
+void settle(tumble::client::Connection& controller, unsigned resting) {
+  const Clock::time_point give_up = Clock::now() + std::chrono::seconds(60);
+  while (stats_or_exit(controller).bodies_asleep() < resting) {
+    if (Clock::now() > give_up) {
+      std::fprintf(stderr, "net_load: the bodies did not come to rest within 60 s\n");
+      std::exit(1);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
 }
 
 }  // namespace
@@ -194,63 +166,136 @@ double percentile(std::vector<double> values, double p) {
 int main(int argc, char** argv) {
   Options options;
   CLI::App app{"Load generator for tumbled's pose streams"};
-  app.add_option("--server", options.server, "tumbled to load, HOST:PORT")->capture_default_str();
-  app.add_option("--token", options.token, "Controller token, when the server asks for one");
+  app.add_option("--server", options.target.server, "tumbled to load, HOST:PORT")->capture_default_str();
+  app.add_option("--token", options.target.token, "Controller token, when the server asks for one");
+  app.add_option("--world", options.world, "field or cubes, for a world with gravity; see bench/README.md")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"field", "cubes"}));
   app.add_option("--subscribers", options.subscribers, "S: subscribers")
       ->capture_default_str()
       ->check(CLI::Range(1u, 10000u));
-  app.add_option("--bodies", options.bodies, "B: spheres to spawn")
+  app.add_option("--bodies", options.bodies, "B: bodies to spawn and follow")
       ->capture_default_str()
       ->check(CLI::Range(1u, 1000000u));
   app.add_option("--rate", options.rate_hz, "R: frames per second per subscriber")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 10000.0));
-  app.add_option("--encoding", options.encoding, "full, quantized or delta")
+  app.add_option("--encoding", options.encoding, "full, quantized, delta, or mixed (the three in turn)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"full", "quantized", "delta"}));
+      ->check(CLI::IsMember({"full", "quantized", "delta", "mixed"}));
   app.add_option("--seconds", options.seconds, "D: measured seconds")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 3600.0));
-  app.add_option("--moving", options.moving, "Fraction of the bodies that spin")
+      ->check(CLI::Range(1.0, 86400.0));
+  app.add_option("--moving", options.moving, "field: the fraction of the bodies that spin")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  app.add_flag("--kinematic-movers", options.kinematic_movers,
+               "field: the spinning bodies are kinematic (driven, not simulated)");
+  app.add_flag("--settle", options.settle, "Measure once the bodies that come to rest are asleep, not from the start");
+  app.add_option("--commands-per-second", options.commands_per_second,
+                 "Also send this many forces, impulses and sets a second")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10000.0));
+  app.add_option("--server-pid", options.server_pid, "tumbled's process id, to report its CPU")
+      ->check(CLI::Range(1, std::numeric_limits<int>::max()));
+  app.add_option("--spawners", options.spawners, "Connections that spawn the world at once")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 256u));
   CLI11_PARSE(app, argc, argv);
 
-  Connection controller = connect(options, "net_load");
-  const std::uint32_t probe = spawn_world(controller, options);
-  auto before = controller.get_stats(std::chrono::seconds(10));
-  if (!before) fail("stats", before.failure());
+  tumble::client::Connection controller = tumble::bench::connect_or_exit(options.target, "net_load");
+  // Paused while the world is built and the subscribers join, so that the
+  // measured window starts with the world as it was spawned.
+  if (auto paused = controller.pause(std::chrono::seconds(10)); !paused) {
+    tumble::bench::exit_with("pause", paused.failure());
+  }
+  tumble::bench::WorldOptions world_options;
+  world_options.layout =
+      options.world == "cubes" ? tumble::bench::WorldLayout::cubes : tumble::bench::WorldLayout::field;
+  world_options.bodies = options.bodies;
+  world_options.moving = options.moving;
+  world_options.kinematic_movers = options.kinematic_movers;
+  const tumble::bench::LoadWorld world = tumble::bench::spawn_world(options.target, world_options, options.spawners);
 
-  // One second of warm-up for the connections and the key frames, then D measured.
-  const Clock::time_point start = Clock::now() + std::chrono::seconds(1);
-  const Clock::time_point end =
-      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
+  Window window;
+  std::atomic<unsigned> ready{0};
   std::vector<Tally> tallies(options.subscribers);
   std::vector<std::thread> threads;
   for (unsigned i = 0; i < options.subscribers; ++i) {
-    threads.emplace_back([&, i] { tallies[i] = run_subscriber(options, i, start, end); });
+    threads.emplace_back([&, i] { tallies[i] = run_subscriber(options, i, world.bodies, ready, window); });
   }
-  std::vector<double> latencies;
-  threads.emplace_back([&] { latencies = measure_latency(options, probe, end); });
+  while (ready.load() < options.subscribers) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+
+  if (auto resumed = controller.resume(std::chrono::seconds(10)); !resumed) {
+    tumble::bench::exit_with("resume", resumed.failure());
+  }
+  if (options.settle) settle(controller, world.resting);
+  const tumble::v1::Stats before = stats_or_exit(controller);
+  const std::optional<double> server_cpu_before =
+      options.server_pid > 0 ? tumble::bench::process_cpu_seconds(options.server_pid) : std::nullopt;
+  const std::optional<double> own_cpu_before = tumble::bench::process_cpu_seconds(getpid());
+  const Clock::time_point start = Clock::now();
+  const Clock::time_point end =
+      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
+  window.start = start.time_since_epoch().count();
+  window.end = end.time_since_epoch().count();
+
+  tumble::bench::LatencyResult latency;
+  threads.emplace_back([&] {
+    latency = tumble::bench::measure_latency(options.target, world.probe, before.tick_rate_hz(),
+                                             encoding_of(options.encoding, 0), end);
+  });
+  tumble::bench::CommandTally commands;
+  if (options.commands_per_second > 0) {
+    threads.emplace_back([&] {
+      commands = tumble::bench::run_commands(options.target, world.bodies, options.commands_per_second, end);
+    });
+  }
   for (std::thread& thread : threads) thread.join();
 
-  auto after = controller.get_stats(std::chrono::seconds(10));
-  if (!after) fail("stats", after.failure());
+  // CPU over the window and the moments the threads took to end after it
+  // (a read's timeout, the latency probe's last change): the same wall time for both processes.
+  const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+  const tumble::v1::Stats after = stats_or_exit(controller);
+  const auto cpu_over_window = [&](std::optional<double> before_seconds, pid_t pid) -> std::string {
+    const std::optional<double> now = tumble::bench::process_cpu_seconds(pid);
+    if (!before_seconds || !now) return "-";
+    char text[32];
+    std::snprintf(text, sizeof text, "%.0f", tumble::bench::cpu_percent(*now - *before_seconds, wall));
+    return text;
+  };
+  const std::string server_cpu = options.server_pid > 0 ? cpu_over_window(server_cpu_before, options.server_pid) : "-";
+  const std::string own_cpu = cpu_over_window(own_cpu_before, getpid());
+
   Tally total;
+  double min_frames = std::numeric_limits<double>::max();
   for (const Tally& tally : tallies) {
     total.frames += tally.frames;
     total.bytes += tally.bytes;
     total.body_slots += tally.body_slots;
+    total.errors += tally.errors;
+    total.max_bytes_per_body = std::max(total.max_bytes_per_body, tally.max_bytes_per_body);
+    min_frames = std::min(min_frames, static_cast<double>(tally.frames));
   }
-  // The server rounds the rate to the tick rate over a whole number of ticks.
-  const double period_ticks = std::max(1.0, std::round(after->tick_rate_hz() / options.rate_hz));
-  const double expected = options.seconds * after->tick_rate_hz() / period_ticks * options.subscribers;
+  // The server rounds the rate to a whole number of ticks.
+  const double period_ticks = std::max(1.0, std::round(after.tick_rate_hz() / options.rate_hz));
+  const double expected_each = options.seconds * after.tick_rate_hz() / period_ticks;
+  const std::uint64_t errors = total.errors + latency.errors + commands.errors;
   std::printf(
-      "encoding=%s subscribers=%u bodies=%u rate_hz=%g seconds=%g bytes_per_body_frame=%.2f frames=%llu "
-      "frames_expected=%.0f latency_samples=%zu latency_ms_p50=%.1f latency_ms_p99=%.1f overruns=%llu\n",
-      options.encoding.c_str(), options.subscribers, options.bodies, options.rate_hz, options.seconds,
+      "world=%s encoding=%s subscribers=%u bodies=%u rate_hz=%g tick_rate_hz=%g seconds=%g "
+      "bytes_per_body_frame=%.2f bytes_per_body_frame_max=%.2f kbit_per_s_per_subscriber=%.1f "
+      "frames=%llu frames_expected=%.0f frames_min_percent=%.1f "
+      "latency_samples=%zu latency_lost=%llu latency_ms_p50=%.2f latency_ms_p99=%.2f latency_goal_ms=%.2f "
+      "overruns=%llu ticks=%llu server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu\n",
+      options.world.c_str(), options.encoding.c_str(), options.subscribers, options.bodies, options.rate_hz,
+      after.tick_rate_hz(), options.seconds,
       total.body_slots > 0 ? static_cast<double>(total.bytes) / static_cast<double>(total.body_slots) : 0.0,
-      static_cast<unsigned long long>(total.frames), expected, latencies.size(), percentile(latencies, 0.5),
-      percentile(latencies, 0.99), static_cast<unsigned long long>(after->overruns() - before->overruns()));
-  return 0;
+      total.max_bytes_per_body, static_cast<double>(total.bytes) * 8 / 1000 / options.seconds / options.subscribers,
+      static_cast<unsigned long long>(total.frames), expected_each * options.subscribers,
+      100 * min_frames / expected_each, latency.latencies_ms.size(), static_cast<unsigned long long>(latency.lost),
+      tumble::bench::percentile(latency.latencies_ms, 0.5), tumble::bench::percentile(latency.latencies_ms, 0.99),
+      1000 / after.tick_rate_hz() + 2, static_cast<unsigned long long>(after.overruns() - before.overruns()),
+      static_cast<unsigned long long>(after.tick() - before.tick()), server_cpu.c_str(), own_cpu.c_str(),
+      static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
+  return errors == 0 ? 0 : 3;
 }

@@ -12,6 +12,7 @@
 // Thread: owned by one session's outbound queue on the I/O thread.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,16 +23,21 @@ namespace tumble::net {
 class DeltaEncoder {
  public:
   // The framed ServerMessage carrying `frame` as a change from the last
-  // frame encoded (or as a key frame); `frame` becomes the baseline.
-  std::string encode(const QuantizedFrame& frame);
+  // frame encoded (or as a key frame); `frame` becomes the baseline. The
+  // frame is immutable and shared with the stream's other sessions, so
+  // keeping it as the baseline copies nothing; when the baseline is the
+  // stream's previous frame the bytes are the frame's shared ones.
+  std::shared_ptr<const std::string> encode(std::shared_ptr<const QuantizedFrame> frame);
 
   // Makes the next frame a key frame.
-  void restart() { has_baseline_ = false; }
+  void restart() { baseline_.reset(); }
 
  private:
-  bool has_baseline_ = false;
-  std::vector<wire::QuantizedBody> baseline_;  // sorted by id
-  std::vector<wire::QuantizedBody> changed_;   // reused between frames
+  // The bytes of `frame` as a change from baseline_.
+  std::string encode_change(const QuantizedFrame& frame);
+
+  std::shared_ptr<const QuantizedFrame> baseline_;  // the last frame encoded; null: none, or restarted
+  std::vector<wire::QuantizedBody> changed_;        // reused between frames
 };
 
 }  // namespace tumble::net

@@ -56,7 +56,7 @@ void OutboundQueue::take_batch(Batch& batch) {
   message_bytes_ = 0;
   for (FrameSlot& slot : frames_) {
     if (slot.delta) {
-      batch.frames.push_back(std::make_shared<const std::string>(encoder_of(slot.stream).encode(*slot.delta)));
+      batch.frames.push_back(encoder_of(slot.stream).encode(std::move(slot.delta)));
     } else {
       batch.frames.push_back(std::move(slot.bytes));
     }

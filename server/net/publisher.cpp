@@ -189,8 +189,7 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
   }
 }
 
-void Publisher::send_frame(const Stream& stream, const sim::Snapshot& snapshot,
-                           const std::vector<Member>& targets) const {
+void Publisher::send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) const {
   if (stream.encoding == tumble::v1::POSE_ENCODING_DELTA) {
     auto frame = std::make_shared<QuantizedFrame>();
     frame->subscription_id = stream.id;
@@ -198,6 +197,7 @@ void Publisher::send_frame(const Stream& stream, const sim::Snapshot& snapshot,
     frame->sim_time = snapshot.sim_time;
     frame->velocities = stream.velocities;
     frame->bodies = quantize(stream, snapshot);
+    frame->sequence = ++stream.frames_made;
     const std::shared_ptr<const QuantizedFrame> shared = std::move(frame);
     for (const Member& member : targets) {
       if (auto session = member.session.lock()) session->send_delta_frame(stream.id, shared);

@@ -90,6 +90,7 @@ class Publisher {
     tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;
     std::uint32_t event_kinds = 0;        // bit k set: events of tumble.v1.WorldEventKind k
     std::uint64_t last_tick = 0;          // tick of the last regular frame
+    std::uint64_t frames_made = 0;        // DELTA: the sequence number of the last QuantizedFrame made
     std::vector<Member> members;
     std::vector<Member> awaiting_first;   // joined since the last frame
   };
@@ -98,7 +99,7 @@ class Publisher {
   void publish(const sim::Snapshot& snapshot);
   void deliver(const sim::WorldEvent& event);
   // Sends the stream's frame of `snapshot` to `targets`.
-  void send_frame(const Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) const;
+  void send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) const;
   // A FULL or QUANTIZED frame, framed for the wire.
   std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
   // The stream's bodies on the quantization grids, sorted by id.

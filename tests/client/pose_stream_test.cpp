@@ -64,6 +64,40 @@ TEST(PoseStream, DeltaFramesAreCompletedFromTheKeyFrame) {
   EXPECT_EQ(xs(*key), (Xs{{9, 3.0f}}));
 }
 
+TEST(PoseStream, ApplyCountsTheBodiesEachFrameStandsFor) {
+  PoseStream stream;
+  const auto delta = tumble::v1::POSE_ENCODING_DELTA;
+  EXPECT_FALSE(stream.apply(frame_of(delta, 1, {body_at(1, 0)})));  // a change before any key frame
+  const auto key = stream.apply(frame_of(delta, 2, {body_at(1, 0), body_at(2, 1), body_at(3, 2)}, true));
+  ASSERT_TRUE(key);
+  EXPECT_EQ(*key, 3u);
+  // Body 2 moved, 5 joined, 3 left: three bodies, and decode agrees on which.
+  const auto changed = stream.apply(frame_of(delta, 3, {body_at(2, 1.5), body_at(5, 4)}, false, {3}));
+  ASSERT_TRUE(changed);
+  EXPECT_EQ(*changed, 3u);
+  const auto idle = stream.decode(frame_of(delta, 4, {}));
+  ASSERT_TRUE(idle);
+  EXPECT_EQ(xs(*idle), (Xs{{1, 0.0f}, {2, 1.5f}, {5, 4.0f}}));
+
+  const auto quantized = stream.apply(frame_of(tumble::v1::POSE_ENCODING_QUANTIZED, 5, {body_at(7, 1), body_at(8, 2)}));
+  ASSERT_TRUE(quantized);
+  EXPECT_EQ(*quantized, 2u);
+  auto broken = frame_of(tumble::v1::POSE_ENCODING_QUANTIZED, 6, {body_at(1, 0)});
+  broken.set_packed(broken.packed().substr(0, 5));
+  ASSERT_FALSE(stream.apply(broken));
+  EXPECT_EQ(stream.apply(broken).failure().kind, FailureKind::protocol);
+
+  tumble::v1::PoseFrame full;
+  full.add_ids(4);
+  for (int k = 0; k < 3; ++k) full.add_positions(0);
+  for (int k = 0; k < 4; ++k) full.add_orientations(k == 0 ? 1 : 0);
+  const auto counted = stream.apply(full);
+  ASSERT_TRUE(counted);
+  EXPECT_EQ(*counted, 1u);
+  full.add_positions(0);  // 4 positions for one id
+  EXPECT_FALSE(stream.apply(full));
+}
+
 TEST(PoseStream, MalformedPackedBytesAreAProtocolFailure) {
   PoseStream stream;
   auto frame = frame_of(tumble::v1::POSE_ENCODING_QUANTIZED, 1, {body_at(1, 0)});

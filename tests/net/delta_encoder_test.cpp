@@ -16,6 +16,7 @@ std::shared_ptr<const QuantizedFrame> frame_of(std::uint64_t tick, std::vector<s
   auto frame = std::make_shared<QuantizedFrame>();
   frame->subscription_id = 1;
   frame->tick = tick;
+  frame->sequence = tick;  // one frame a tick: the stream's frames in order
   const double q[4] = {1, 0, 0, 0};
   for (const auto& [id, x] : xs) {
     const double position[3] = {x, 0, 0};
@@ -46,24 +47,43 @@ std::vector<std::uint32_t> ids_in(const tumble::v1::PoseFrame& frame) {
 
 TEST(DeltaEncoder, FirstFrameIsAKeyFrameThenOnlyChanges) {
   DeltaEncoder encoder;
-  const auto key = parse(encoder.encode(*frame_of(1, {{1, 0.0}, {2, 1.0}, {3, 2.0}})));
+  const auto key = parse(*encoder.encode(frame_of(1, {{1, 0.0}, {2, 1.0}, {3, 2.0}})));
   EXPECT_TRUE(key.key_frame());
   EXPECT_EQ(key.encoding(), tumble::v1::POSE_ENCODING_DELTA);
   EXPECT_EQ(ids_in(key), (std::vector<std::uint32_t>{1, 2, 3}));
 
   // Body 2 moves, 3 leaves, 4 arrives; a move under half a grid step is no change.
-  const auto change = parse(encoder.encode(*frame_of(2, {{1, 0.0001}, {2, 1.5}, {4, 3.0}})));
+  const auto change = parse(*encoder.encode(frame_of(2, {{1, 0.0001}, {2, 1.5}, {4, 3.0}})));
   EXPECT_FALSE(change.key_frame());
   EXPECT_EQ(ids_in(change), (std::vector<std::uint32_t>{2, 4}));
   ASSERT_EQ(change.removed_ids_size(), 1);
   EXPECT_EQ(change.removed_ids(0), 3u);
 
-  const auto idle = parse(encoder.encode(*frame_of(3, {{1, 0.0}, {2, 1.5}, {4, 3.0}})));
+  const auto idle = parse(*encoder.encode(frame_of(3, {{1, 0.0}, {2, 1.5}, {4, 3.0}})));
   EXPECT_TRUE(ids_in(idle).empty());
   EXPECT_EQ(idle.removed_ids_size(), 0);
 
   encoder.restart();
-  EXPECT_TRUE(parse(encoder.encode(*frame_of(4, {{1, 0.0}}))).key_frame());
+  EXPECT_TRUE(parse(*encoder.encode(frame_of(4, {{1, 0.0}}))).key_frame());
+}
+
+TEST(DeltaEncoder, ClientsThatKeepUpShareTheBytesOthersGetTheirOwn) {
+  DeltaEncoder a;
+  DeltaEncoder b;
+  DeltaEncoder late;
+  const auto first = frame_of(1, {{1, 0.0}, {2, 0.0}});
+  const auto second = frame_of(2, {{1, 1.0}, {2, 0.0}});
+  const auto third = frame_of(3, {{1, 1.0}, {2, 2.0}});
+  EXPECT_EQ(a.encode(first), b.encode(first)) << "one key frame for both";
+  late.encode(first);
+  EXPECT_EQ(a.encode(second), b.encode(second)) << "one change from frame 1 for both";
+  const auto shared = a.encode(third);
+  EXPECT_EQ(shared, b.encode(third));
+  EXPECT_EQ(ids_in(parse(*shared)), (std::vector<std::uint32_t>{2}));
+  // `late` skipped frame 2 (latest-wins): its change is from frame 1, bodies 1 and 2.
+  const auto own = late.encode(third);
+  EXPECT_NE(own, shared);
+  EXPECT_EQ(ids_in(parse(*own)), (std::vector<std::uint32_t>{1, 2}));
 }
 
 TEST(DeltaEncoder, AFrameReplacedBeforeItWasWrittenIsNeverABaseline) {

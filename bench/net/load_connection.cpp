@@ -1,0 +1,24 @@
+#include "load_connection.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+
+#include "tumble_client/endpoint.h"
+
+namespace tumble::bench {
+
+void exit_with(const std::string& what, const client::Failure& failure) {
+  std::fprintf(stderr, "net_load: %s: %s\n", what.c_str(), failure.message.c_str());
+  std::exit(1);
+}
+
+client::Connection connect_or_exit(const LoadTarget& target, const std::string& name) {
+  auto endpoint = client::parse_endpoint(target.server);
+  if (!endpoint) exit_with("server", endpoint.failure());
+  auto connection = client::Connection::connect(*endpoint, name, target.token, std::chrono::seconds(10));
+  if (!connection) exit_with("connect", connection.failure());
+  return std::move(*connection);
+}
+
+}  // namespace tumble::bench

@@ -1,0 +1,103 @@
+// bench/net/net_load against the real tumbled on 127.0.0.1, with a few
+// subscribers and bodies for a second: frames arrive and decode in every
+// encoding, the bytes per body are those of the encoding, and nothing
+// fails. Timing figures (latency, CPU, overruns) are printed, not checked.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "process.h"
+#include "tumbled_process.h"
+
+namespace tumble::test {
+namespace {
+
+constexpr const char* kNoGravity = R"({"gravity": [0, 0, 0], "bodies": []})";
+constexpr const char* kGravity = R"({"bodies": []})";
+
+// net_load's output line as key -> value.
+using Report = std::map<std::string, std::string>;
+
+Report run_net_load(TumbledProcess& server, const std::vector<std::string>& args) {
+  std::vector<std::string> argv = {TUMBLE_NET_LOAD_PATH,
+                                   "--server",
+                                   server.server(),
+                                   "--server-pid",
+                                   std::to_string(server.process().pid()),
+                                   "--seconds",
+                                   "1",
+                                   "--spawners",
+                                   "4"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const CommandResult result = run_command(argv, std::chrono::seconds(90));
+  EXPECT_EQ(result.exit_code, 0) << result.err << result.out;
+  Report report;
+  std::istringstream fields(result.out);
+  std::string field;
+  while (fields >> field) {
+    const std::size_t equals = field.find('=');
+    if (equals != std::string::npos) report[field.substr(0, equals)] = field.substr(equals + 1);
+  }
+  return report;
+}
+
+double number(const Report& report, const std::string& key) {
+  const auto it = report.find(key);
+  if (it == report.end()) {
+    ADD_FAILURE() << "no " << key << " in the report";
+    return -1;
+  }
+  return std::stod(it->second);
+}
+
+// Frames came (no more than the window can hold), nothing failed.
+void expect_frames_and_no_errors(const Report& report, double subscribers) {
+  EXPECT_GT(number(report, "frames"), 0);
+  // Not many more than the window holds: frames are counted once each. The
+  // margin is generous, for the window's edges and for frames a loaded
+  // machine delivers late in a bunch.
+  EXPECT_LE(number(report, "frames"), 1.5 * number(report, "frames_expected") + 2 * subscribers);
+  EXPECT_EQ(number(report, "errors"), 0);
+  EXPECT_GE(number(report, "server_cpu_percent"), 0);  // a number: tumbled's /proc was read
+  EXPECT_GE(number(report, "load_cpu_percent"), 0);
+}
+
+TEST(NetLoadSmoke, FieldInEveryEncoding) {
+  std::map<std::string, double> bytes_per_body;
+  for (const char* encoding : {"full", "quantized", "delta"}) {
+    // A fresh server each time, into which net_load spawns 30 bodies (3 spin).
+    TumbledProcess server(kNoGravity);
+    ASSERT_TRUE(server.started()) << server.log();
+    const Report report =
+        run_net_load(server, {"--subscribers", "2", "--bodies", "30", "--rate", "30", "--encoding", encoding});
+    SCOPED_TRACE(encoding);
+    EXPECT_EQ(report.at("encoding"), encoding);
+    expect_frames_and_no_errors(report, 2);
+    bytes_per_body[encoding] = number(report, "bytes_per_body_frame");
+  }
+  // FULL: 28 bytes of float32 pose and an id byte, plus the frame's header shared by the bodies.
+  EXPECT_GE(bytes_per_body["full"], 29);
+  EXPECT_LE(bytes_per_body["full"], 35);
+  // QUANTIZED: at most 10 bytes a body here (README's layout), at least the 4 of its orientation.
+  EXPECT_GE(bytes_per_body["quantized"], 4);
+  EXPECT_LE(bytes_per_body["quantized"], 10.5);
+  // DELTA: only the spinning tenth changes.
+  EXPECT_GT(bytes_per_body["delta"], 0);
+  EXPECT_LT(bytes_per_body["delta"], bytes_per_body["quantized"] / 2);
+}
+
+TEST(NetLoadSmoke, FallingCubesWithCommandsAndMixedEncodings) {
+  TumbledProcess server(kGravity);
+  ASSERT_TRUE(server.started()) << server.log();
+  const Report report = run_net_load(server, {"--world", "cubes", "--subscribers", "3", "--bodies", "10", "--rate",
+                                              "60", "--encoding", "mixed", "--commands-per-second", "20"});
+  expect_frames_and_no_errors(report, 3);
+  EXPECT_GT(number(report, "commands"), 0);
+  EXPECT_GT(number(report, "bytes_per_body_frame"), 0);
+}
+
+}  // namespace
+}  // namespace tumble::test
