@@ -4,6 +4,17 @@ if(TUMBLE_SANITIZE)
   if(TUMBLE_SANITIZE MATCHES "undefined")
     list(APPEND _flags -fno-sanitize-recover=undefined)
   endif()
+  # GCC's -Wmaybe-uninitialized gives false positives under the sanitizers'
+  # instrumentation (in Boost.Beast's parser, say); its manual says as much.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    list(APPEND _flags -Wno-maybe-uninitialized)
+    # Asio orders handlers with std::atomic_thread_fence, which GCC warns
+    # ThreadSanitizer cannot see; its queues' mutexes, which it can, carry
+    # the same ordering.
+    if(TUMBLE_SANITIZE MATCHES "thread")
+      list(APPEND _flags -Wno-tsan)
+    endif()
+  endif()
   add_compile_options(${_flags})
   add_link_options(-fsanitize=${TUMBLE_SANITIZE})
 endif()

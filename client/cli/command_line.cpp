@@ -49,6 +49,21 @@ std::string check_new_name(const std::string& text) {
   return digits_only ? "a body name of digits only would read as an id, got '" + text + "'" : std::string();
 }
 
+// The --encoding of subscribe and watch, into `name`; pose_encoding() reads it.
+void add_encoding_option(CLI::App& command, std::string& name) {
+  command
+      .add_option("--encoding", name,
+                  "full: float32; quantized: 1/1024 m grid, 32-bit orientations; delta: quantized, changes only")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"full", "quantized", "delta"}));
+}
+
+tumble::v1::PoseEncoding pose_encoding(const std::string& name) {
+  return name == "quantized" ? tumble::v1::POSE_ENCODING_QUANTIZED
+         : name == "delta"   ? tumble::v1::POSE_ENCODING_DELTA
+                             : tumble::v1::POSE_ENCODING_FULL;
+}
+
 // A body reference that check_body accepted.
 tumble::v1::BodyRef body_ref(const std::string& text) { return client::parse_body_ref(text).value(); }
 
@@ -207,12 +222,20 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   subscribe->add_option("--fields", fields, "pose: positions and orientations; all: velocities too")
       ->capture_default_str()
       ->check(CLI::IsMember({"pose", "all"}));
-  subscribe
-      ->add_option("--encoding", encoding,
-                   "full: float32; quantized: 1/1024 m grid, 32-bit orientations; delta: quantized, changes only")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"full", "quantized", "delta"}));
+  add_encoding_option(*subscribe, encoding);
   subscribe->add_flag("--events", events, "Also print bodies spawned, removed, falling asleep, waking, and resets");
+  bool reconnect = false;
+  double reconnect_max_wait = std::chrono::duration<double>(kReconnectDefaultMaxWait).count();
+  CLI::Option* reconnect_option = subscribe->add_flag(
+      "--reconnect", reconnect,
+      "When the connection is lost or refused, say why on stderr and try again, waiting 0.1 s, then twice as long "
+      "each time (with jitter), and subscribe again");
+  subscribe
+      ->add_option("--reconnect-max-wait", reconnect_max_wait, "Longest wait between two attempts to reconnect")
+      ->capture_default_str()
+      ->type_name("S")
+      ->check(CLI::Range(0.01, 3600.0))
+      ->needs(reconnect_option);
 
   CLI::App* spawn = app.add_subcommand("spawn", "Add a body to the world");
   std::string spawn_name;
@@ -288,6 +311,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
       watch->add_option("--count", watch_count, "Exit after this many tables; run until interrupted when absent")
           ->type_name("N")
           ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
+  std::string watch_encoding = "full";
+  add_encoding_option(*watch, watch_encoding);
 
   ParsedCommandLine parsed;
   try {
@@ -342,10 +367,11 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     command.rate_hz = rate_hz;
     if (count_option->count() > 0) command.count = count;
     command.poses_only = fields == "pose";
-    command.encoding = encoding == "quantized" ? tumble::v1::POSE_ENCODING_QUANTIZED
-                       : encoding == "delta"   ? tumble::v1::POSE_ENCODING_DELTA
-                                               : tumble::v1::POSE_ENCODING_FULL;
+    command.encoding = pose_encoding(encoding);
     command.events = events;
+    command.reconnect = reconnect;
+    command.reconnect_max_wait = std::chrono::round<std::chrono::milliseconds>(
+        std::chrono::duration<double>(reconnect_max_wait));
     invocation.command = std::move(command);
   } else if (app.got_subcommand(spawn)) {
     SpawnCommand command;
@@ -403,6 +429,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     for (const std::string& name : watch_bodies) command.bodies.push_back(body_ref(name));
     command.rate_hz = watch_rate_hz;
     if (watch_count_option->count() > 0) command.count = watch_count;
+    command.encoding = pose_encoding(watch_encoding);
     invocation.command = std::move(command);
   }
   parsed.invocation = std::move(invocation);

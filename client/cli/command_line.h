@@ -6,7 +6,7 @@
 //     torque BODY --torque TX TY TZ [--duration S | --ticks N | --persistent]
 //     impulse BODY --impulse JX JY JZ [--at PX PY PZ [--local]]
 //     subscribe [--bodies A,B,...] [--rate HZ] [--count N] [--fields pose|all]
-//               [--encoding full|quantized|delta] [--events]
+//               [--encoding full|quantized|delta] [--events] [--reconnect [--reconnect-max-wait S]]
 //     spawn NAME (--box HX HY HZ | --sphere R | --capsule R HH) [--mass M] [--at X Y Z]
 //           [--orientation W X Y Z] [--velocity VX VY VZ] [--angular-velocity WX WY WZ]
 //           [--static | --kinematic] [--friction F] [--restitution E]
@@ -16,7 +16,7 @@
 //     pause | resume | reset | stats
 //     step [N]
 //     tick-rate HZ
-//     watch [--bodies A,B,...] [--rate HZ] [--count N]
+//     watch [--bodies A,B,...] [--rate HZ] [--count N] [--encoding full|quantized|delta]
 //
 // Numbers that parse as floating point pass through unchecked, NaN and
 // infinities included: judging them is the server's job.
@@ -29,6 +29,7 @@
 #include <variant>
 #include <vector>
 
+#include "reconnect_policy.h"
 #include "tumble/v1/protocol.pb.h"
 #include "tumble_client/connection.h"
 #include "tumble_client/endpoint.h"
@@ -92,6 +93,8 @@ struct SubscribeCommand {
   bool poses_only = false;                  // --fields pose: no velocities
   tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;  // --encoding
   bool events = false;                      // --events: every kind of WorldEvent too
+  bool reconnect = false;                   // --reconnect: ride out lost connections
+  std::chrono::milliseconds reconnect_max_wait = kReconnectDefaultMaxWait;  // --reconnect-max-wait
 };
 
 // tumble spawn
@@ -154,6 +157,7 @@ struct WatchCommand {
   std::vector<tumble::v1::BodyRef> bodies;  // empty: every body
   double rate_hz = 10;                      // tables per second; 0: every tick
   std::optional<std::uint64_t> count;       // stop after this many tables; none: until interrupted
+  tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;  // --encoding
 };
 
 using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand,

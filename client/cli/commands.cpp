@@ -2,11 +2,15 @@
 
 #include <chrono>
 #include <functional>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
 #include <string>
 #include <variant>
 
 #include "interrupt.h"
 #include "output.h"
+#include "reconnect_policy.h"
 #include "requests.h"
 #include "tumble_client/connection.h"
 #include "tumble_client/pose_sample.h"
@@ -87,7 +91,7 @@ std::optional<client::Failure> run(const Invocation& invocation, std::ostream& o
     std::optional<client::Failure> operator()(const TorqueCommand& c) const { return run_torque(global, c, out); }
     std::optional<client::Failure> operator()(const ImpulseCommand& c) const { return run_impulse(global, c, out); }
     std::optional<client::Failure> operator()(const SubscribeCommand& c) const {
-      return run_subscribe(global, c, out);
+      return run_subscribe(global, c, out, std::cerr);
     }
     std::optional<client::Failure> operator()(const SpawnCommand& c) const { return run_spawn(global, c, out); }
     std::optional<client::Failure> operator()(const RemoveCommand& c) const { return run_remove(global, c, out); }
@@ -137,8 +141,21 @@ std::optional<client::Failure> run_impulse(const GlobalOptions& global, const Im
   return print_ack(global, connection->apply_impulse(make_apply_impulse(command), global.timeout), out);
 }
 
-std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const SubscribeCommand& command,
-                                             std::ostream& out) {
+namespace {
+
+// Where a `tumble subscribe` stands across its connections.
+struct SubscribeProgress {
+  std::uint64_t shown = 0;  // frames printed, over every connection
+  bool subscribed = false;  // the latest connection's subscription stood
+  bool retried = false;     // an earlier connection failed
+};
+
+// One connection of `tumble subscribe`: connects, lists the bodies (for
+// their names), subscribes and prints until `command.count` frames in all
+// or an interrupt. After a retry, says on `notes` that it is back.
+std::optional<client::Failure> subscribe_once(const GlobalOptions& global, const SubscribeCommand& command,
+                                              std::ostream& out, std::ostream& notes, SubscribeProgress& progress) {
+  progress.subscribed = false;
   auto connection = open(global);
   if (!connection) return connection.failure();
   auto list = connection->list_bodies(global.timeout);
@@ -146,16 +163,47 @@ std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const 
   const BodyNames names = body_names(*list);
   auto subscribed = connection->subscribe(make_subscribe(command), global.timeout);
   if (!subscribed) return subscribed.failure();
+  progress.subscribed = true;
+  if (progress.retried) {
+    notes << "tumble: reconnected to " << client::to_string(global.server) << " at tick " << list->tick()
+          << std::endl;
+  }
 
   StreamHandlers handlers;
   handlers.frame = [&](const client::PoseSample& sample) -> std::optional<client::Failure> {
     emit(out, global.json ? json_line(pose_sample_json(sample, names)) : format_pose_sample(sample, names));
+    ++progress.shown;
     return std::nullopt;
   };
   handlers.event = [&](const tumble::v1::WorldEvent& event) {
     emit(out, global.json ? json_line(world_event_json(event)) : format_world_event(event));
   };
-  return follow(*connection, subscribed->subscription_id(), command.count, handlers);
+  std::optional<std::uint64_t> left;
+  if (command.count) left = *command.count - progress.shown;
+  return follow(*connection, subscribed->subscription_id(), left, handlers);
+}
+
+}  // namespace
+
+std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const SubscribeCommand& command,
+                                             std::ostream& out, std::ostream& notes) {
+  SubscribeProgress progress;
+  if (!command.reconnect) return subscribe_once(global, command, out, notes, progress);
+  catch_interrupts();
+  ReconnectBackoff backoff(command.reconnect_max_wait);
+  for (;;) {
+    std::optional<client::Failure> failure = subscribe_once(global, command, out, notes, progress);
+    if (!failure || interrupted()) return std::nullopt;
+    if (!worth_reconnecting(*failure)) return failure;
+    if (progress.subscribed) backoff.reset();  // it served: the next wait is the first again
+    progress.retried = true;
+    const std::chrono::milliseconds wait = backoff.next_wait();
+    std::ostringstream note;  // its own stream, so `notes` keeps its number format
+    note << "tumble: " << failure->message << "; reconnecting in " << std::fixed << std::setprecision(2)
+         << std::chrono::duration<double>(wait).count() << " s\n";
+    notes << note.str() << std::flush;
+    if (!sleep_unless_interrupted(wait)) return std::nullopt;
+  }
 }
 
 std::optional<client::Failure> run_spawn(const GlobalOptions& global, const SpawnCommand& command, std::ostream& out) {

@@ -38,8 +38,15 @@ std::optional<client::Failure> run_impulse(const GlobalOptions& global, const Im
 // subscription as it arrives, flushed. Ends with success after `count`
 // frames or on SIGINT/SIGTERM (caught from the moment the subscription
 // stands); fails when the server sends an Error or closes the connection.
+// With `reconnect`, SIGINT/SIGTERM are caught from the start, and a failure
+// that worth_reconnecting() accepts, the first connection's included, is a
+// line on `notes` (the reason and the wait) followed by a new connection,
+// body list and the same Subscribe after a ReconnectBackoff wait, for as
+// long as it takes; `count` counts frames across connections, and `notes`
+// gets a line when a new subscription stands. Only frames and events go to
+// `out`.
 std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const SubscribeCommand& command,
-                                             std::ostream& out);
+                                             std::ostream& out, std::ostream& notes);
 
 // tumble spawn: one SpawnBody, prints the new body's id and the tick.
 std::optional<client::Failure> run_spawn(const GlobalOptions& global, const SpawnCommand& command, std::ostream& out);

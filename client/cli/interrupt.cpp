@@ -1,6 +1,8 @@
 #include "interrupt.h"
 
+#include <algorithm>
 #include <csignal>
+#include <thread>
 
 namespace tumble::cli {
 namespace {
@@ -17,5 +19,16 @@ void catch_interrupts() {
 }
 
 bool interrupted() { return g_interrupted != 0; }
+
+bool sleep_unless_interrupted(std::chrono::milliseconds duration) {
+  constexpr std::chrono::milliseconds kSlice{100};
+  const auto end = std::chrono::steady_clock::now() + duration;
+  for (;;) {
+    if (interrupted()) return false;
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
+    if (left <= std::chrono::milliseconds::zero()) return true;
+    std::this_thread::sleep_for(std::min(left, kSlice));
+  }
+}
 
 }  // namespace tumble::cli

@@ -107,6 +107,7 @@ tumble::v1::Subscribe make_watch_subscribe(const WatchCommand& command) {
   for (const tumble::v1::BodyRef& body : command.bodies) *request.add_bodies() = body;
   request.set_rate_hz(command.rate_hz);
   request.set_fields(tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
+  request.set_encoding(command.encoding);
   for (const auto kind : {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED,
                           tumble::v1::WORLD_EVENT_BODY_ASLEEP, tumble::v1::WORLD_EVENT_BODY_AWAKE}) {
     request.add_events(kind);

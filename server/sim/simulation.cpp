@@ -217,6 +217,7 @@ void Simulation::stop() {
   run_wakeup_.notify_all();
   if (thread_.joinable()) thread_.join();
   if (journal_ != nullptr) journal_->finish(next_tick_);
+  journal_ = nullptr;  // finished: a second stop() (the destructor's) writes nothing
 }
 
 void Simulation::submit(Command command) {

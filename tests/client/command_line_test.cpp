@@ -9,6 +9,7 @@
 
 #include "command_line_helpers.h"
 #include "exit_code.h"
+#include "requests.h"
 
 namespace tumble::cli {
 namespace {
@@ -180,6 +181,20 @@ TEST(CommandLine, SubscribeEncodings) {
   EXPECT_EQ(parse_command<SubscribeCommand>({"subscribe", "--encoding", "full"}).encoding,
             tumble::v1::POSE_ENCODING_FULL);
   expect_usage_error({"subscribe", "--encoding", "zip"});
+}
+
+TEST(CommandLine, WatchEncodings) {
+  EXPECT_EQ(parse_command<WatchCommand>({"watch"}).encoding, tumble::v1::POSE_ENCODING_FULL);
+  EXPECT_EQ(parse_command<WatchCommand>({"watch", "--encoding", "quantized"}).encoding,
+            tumble::v1::POSE_ENCODING_QUANTIZED);
+  EXPECT_EQ(parse_command<WatchCommand>({"watch", "--encoding", "delta"}).encoding, tumble::v1::POSE_ENCODING_DELTA);
+  EXPECT_EQ(parse_command<WatchCommand>({"watch", "--encoding", "full"}).encoding, tumble::v1::POSE_ENCODING_FULL);
+  expect_usage_error({"watch", "--encoding", "zip"});
+
+  WatchCommand watch;
+  watch.encoding = tumble::v1::POSE_ENCODING_DELTA;
+  EXPECT_EQ(make_watch_subscribe(watch).encoding(), tumble::v1::POSE_ENCODING_DELTA);
+  EXPECT_EQ(make_watch_subscribe(WatchCommand{}).encoding(), tumble::v1::POSE_ENCODING_FULL);
 }
 
 TEST(CommandLine, SubscribeWithBodiesRateAndCount) {
