@@ -4,7 +4,8 @@
 # runs the image with a published port and a named volume, and checks it from
 # the host with the host's tumble CLI:
 #   1. tumbled answers through the published port, runs as uid 10001 as PID 1,
-#      and the image's HEALTHCHECK passes;
+#      and the image's HEALTHCHECK passes; GET / on the published HTTP port
+#      returns the viewer's page, byte for byte as in web/dist;
 #   2. an impulse moves the crate;
 #   3. `podman stop` (SIGTERM) ends the container with exit code 0;
 #   4. persistence: a new container on the same volume resumes the world where
@@ -184,6 +185,7 @@ podman volume create "$VOLUME" >/dev/null
 
 export TUMBLE_TOKEN=$TOKEN
 HOSTPORT=
+HTTPPORT=
 # The host's CLI against the published port, never waiting forever.
 cli() { timeout 30 "$CLI" --server "127.0.0.1:$HOSTPORT" --timeout "${CLI_TIMEOUT:-10}" "$@"; }
 
@@ -207,10 +209,12 @@ show_logs() {  # NAME
 # host port is picked by podman) and waits until the host CLI lists bodies.
 start_container() {  # NAME
   local name=$1 i
-  pm run -d --name "$name" -p 127.0.0.1::7400 -v "$VOLUME:/data" -e TUMBLE_TOKEN \
+  pm run -d --name "$name" -p 127.0.0.1::7400 -p 127.0.0.1::8080 -v "$VOLUME:/data" -e TUMBLE_TOKEN \
     "$IMAGE" >/dev/null || die "podman run $name failed"
   HOSTPORT=$(podman port "$name" 7400/tcp | head -n 1 | sed 's/.*://')
   [[ $HOSTPORT =~ ^[0-9]+$ ]] || die "no host port published for $name"
+  HTTPPORT=$(podman port "$name" 8080/tcp | head -n 1 | sed 's/.*://')
+  [[ $HTTPPORT =~ ^[0-9]+$ ]] || die "no host port published for $name's HTTP (8080)"
   for i in $(seq 60); do
     if [[ $(podman inspect -f '{{.State.Running}}' "$name") != true ]]; then
       show_logs "$name"
@@ -232,6 +236,19 @@ read_crate() {
                                      | "\($t) \(.position[2]) \(.linear_velocity[2])"') \
     || die "cannot read the crate from 'tumble --json bodies'"
   read -r T Z V <<<"$line"
+}
+
+# GET PATH on the published HTTP port with bash's /dev/tcp (no HTTP client
+# in the image or needed on the host); the whole response, headers and
+# body, goes to FILE.
+http_get() {  # PATH FILE
+  local fd
+  exec {fd}<>"/dev/tcp/127.0.0.1/$HTTPPORT" || return 1
+  printf 'GET %s HTTP/1.1\r\nHost: 127.0.0.1:%s\r\nConnection: close\r\n\r\n' "$1" "$HTTPPORT" >&"$fd"
+  timeout 10 cat <&"$fd" >"$2"
+  local rc=$?
+  exec {fd}<&-
+  return "$rc"
 }
 
 # Evaluates a jq condition on numbers, e.g. check '$a > $b' a 1 b 2.
@@ -263,6 +280,17 @@ start_container "$RUN_ID-1"
 podman healthcheck run "$RUN_ID-1" >/dev/null 2>&1 \
   || { show_logs "$RUN_ID-1"; die "the image's HEALTHCHECK fails on a running server"; }
 say "runs as uid 10001, tumbled is PID 1, healthcheck passes"
+
+# The viewer's page: the status line, its type, and the body exactly as in
+# web/dist (the headers end at the first empty line).
+http_get / "$WORK/page.http" || die "GET / on 127.0.0.1:$HTTPPORT failed"
+headers=$(sed -n '1,/^\r$/p' "$WORK/page.http")
+[[ $headers == "HTTP/1.1 200 OK"* ]] || die "GET / did not answer 200 OK: ${headers%%$'\r'*}"
+grep -qi '^content-type: text/html' <<<"$headers" || die "GET / is not served as text/html: $headers"
+sed '1,/^\r$/d' "$WORK/page.http" >"$WORK/page.body"
+cmp -s "$WORK/page.body" "$ROOT/web/dist/index.html" \
+  || die "GET / does not return web/dist/index.html byte for byte"
+say "GET / on the HTTP port returns web/dist/index.html"
 
 read_crate; t0=$T z0=$Z v0=$V
 check '$v == 0' v "$v0" || die "the crate moves before any command (velocity $v0): not a fresh world"

@@ -40,6 +40,14 @@ bool split_host_port(const std::string& text, std::string& host, std::uint16_t& 
   return !host.empty();
 }
 
+// Writes `port` to `path`, through a temporary name and a rename, so a
+// reader never sees half a number.
+void write_port_file(const std::string& path, std::uint16_t port) {
+  const std::string temporary = path + ".tmp";
+  std::ofstream(temporary) << port << "\n";
+  std::rename(temporary.c_str(), path.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -67,6 +75,15 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 30));
   app.add_option("--port-file", port_file, "Write the bound port to this file once listening");
+  // The HTTP endpoint: the viewer's page and WebSocket clients.
+  std::string http;
+  std::string http_port_file;
+  auto* http_option = app.add_option("--http", http,
+                                     "Serve the viewer's page, and WebSocket clients at /ws, on HOST:PORT (port 0 "
+                                     "picks a free one); off by default. No TLS: use loopback or a proxy");
+  app.add_option("--http-port-file", http_port_file,
+                 "Write the bound HTTP port to this file once listening (before --port-file is written)")
+      ->needs(http_option);
 
   // Shared-server safety: limits on each client and access tokens.
   std::size_t max_connections = 1024;
@@ -136,6 +153,12 @@ int main(int argc, char** argv) {
     log->error("--listen: '{}' is not HOST:PORT", listen);
     return 2;
   }
+  std::string http_host;
+  std::uint16_t http_port = 0;
+  if (!http.empty() && !split_host_port(http, http_host, http_port)) {
+    log->error("--http: '{}' is not HOST:PORT", http);
+    return 2;
+  }
   if (!tokens.controller.empty() && tokens.controller == tokens.observer) {
     log->error("--token and --observer-token must differ: a client's role is told by its token");
     return 2;
@@ -194,6 +217,9 @@ int main(int argc, char** argv) {
   }
   if (!resume && scene_path.empty() && replay_path.empty()) log->warn("no --scene given: starting with an empty world");
 
+  // Declared before the sim, which writes its last entry when it stops:
+  // the sim is destroyed (and stopped) first.
+  tumble::sim::JournalWriter journal;
   std::unique_ptr<tumble::sim::Simulation> sim;
   if (resume) {
     if (auto status = tumble::sim::Simulation::create_from_state(saved, sim_config, &sim); !status.ok()) {
@@ -217,7 +243,6 @@ int main(int argc, char** argv) {
               summary.end_tick, summary.complete ? "" : " (the journal was cut short: its run was killed)");
   }
 
-  tumble::sim::JournalWriter journal;
   if (!record_path.empty()) {
     tumble::v1::JournalHeader header;
     header.set_format_version(tumble::sim::kJournalFormat);
@@ -260,17 +285,17 @@ int main(int argc, char** argv) {
   server_config.max_connections = max_connections;
   server_config.access = tokens;
   server_config.server_version = kVersion;
+  server_config.serve_http = !http.empty();
+  server_config.http_host = http_host;
+  server_config.http_port = http_port;
   tumble::net::Server server(io, *sim, server_config);
   if (auto status = server.start(); !status.ok()) {
     log->error("{}", status.message());
     return 1;
   }
-  if (!port_file.empty()) {
-    // Written to a temporary name and renamed, so a reader never sees half a number.
-    const std::string temporary = port_file + ".tmp";
-    std::ofstream(temporary) << server.port() << "\n";
-    std::rename(temporary.c_str(), port_file.c_str());
-  }
+  // The HTTP port first: whoever waits for --port-file then finds both.
+  if (!http_port_file.empty()) write_port_file(http_port_file, server.http_port());
+  if (!port_file.empty()) write_port_file(port_file, server.port());
 
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& error, int signal) {

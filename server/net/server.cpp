@@ -2,7 +2,9 @@
 
 #include <vector>
 
+#include "net/listen.h"
 #include "net/log.h"
+#include "net/tcp_transport.h"
 
 namespace tumble::net {
 
@@ -35,21 +37,21 @@ Server::Server(asio::io_context& io, sim::Simulation& sim, ServerConfig config)
 Server::~Server() { stop(); }
 
 sim::Status Server::start() {
-  boost::system::error_code error;
-  const asio::ip::address address = asio::ip::make_address(config_.host, error);
-  if (error) return sim::Status::error("'" + config_.host + "' is not an IP address");
-  const tcp::endpoint endpoint(address, config_.port);
-  const std::string where = config_.host + ":" + std::to_string(config_.port);
-  if (acceptor_.open(endpoint.protocol(), error); error) {
-    return sim::Status::error("cannot open a socket for " + where + ": " + error.message());
-  }
-  acceptor_.set_option(tcp::acceptor::reuse_address(true), error);
-  if (acceptor_.bind(endpoint, error); error) return sim::Status::error("cannot bind " + where + ": " + error.message());
-  if (acceptor_.listen(asio::socket_base::max_listen_connections, error); error) {
-    return sim::Status::error("cannot listen on " + where + ": " + error.message());
-  }
+  if (auto status = listen_on(acceptor_, config_.host, config_.port); !status.ok()) return status;
   port_ = acceptor_.local_endpoint().port();
   net_log().info("listening on {}:{}", config_.host, port_);
+  if (config_.serve_http) {
+    http_ = std::make_unique<HttpListener>(io_, config_.http_host, config_.http_port, config_.max_connections,
+                                           [this](std::unique_ptr<Transport> transport) {
+                                             admit(std::move(transport));
+                                           });
+    if (auto status = http_->start(); !status.ok()) {
+      http_.reset();
+      boost::system::error_code ignored;
+      acceptor_.close(ignored);
+      return status;
+    }
+  }
   accept_next();
   sweep_deadlines();
   return {};
@@ -58,6 +60,7 @@ sim::Status Server::start() {
 void Server::stop() {
   boost::system::error_code ignored;
   acceptor_.close(ignored);
+  if (http_) http_->stop();
   accept_retry_.cancel();
   sweep_timer_.cancel();
   // close() erases from sessions_ through the closed callback: iterate a copy.
@@ -81,22 +84,26 @@ void Server::accept_next() {
       });
       return;
     }
-    admit(std::move(socket));
+    admit(std::make_unique<TcpTransport>(std::move(socket)));
     accept_next();
   });
 }
 
-void Server::admit(tcp::socket socket) {
+void Server::admit(std::unique_ptr<Transport> transport) {
+  if (!acceptor_.is_open()) {
+    // A WebSocket handshake that finished as the server stopped.
+    transport->close();
+    return;
+  }
   const std::uint64_t id = next_session_id_++;
   const bool full = sessions_.size() >= config_.max_connections;
   if (full && refused_.size() >= config_.max_connections) {
     // A flood of connections: refusing each politely would cost as much as
     // serving it, so these are closed without a word.
-    boost::system::error_code ignored;
-    socket.close(ignored);
+    transport->close();
     return;
   }
-  auto session = std::make_shared<Session>(std::move(socket), id, context_, [this](std::uint64_t closed) {
+  auto session = std::make_shared<Session>(std::move(transport), id, context_, [this](std::uint64_t closed) {
     sessions_.erase(closed);
     refused_.erase(closed);
   });

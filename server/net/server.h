@@ -1,5 +1,7 @@
-// The TCP front of tumbled: accepts connections and keeps the sessions.
-// Beyond max_connections a new connection is refused with
+// The network front of tumbled: accepts TCP connections, and WebSocket
+// clients through the HTTP endpoint when it is on (net/http_listener.h),
+// and keeps every client's session, whatever its transport. Beyond
+// max_connections a new client of either kind is refused with
 // RESOURCE_EXHAUSTED and closed; the sessions it has are not affected. A
 // periodic sweep enforces every session's deadlines (handshake timeout,
 // undelivered messages).
@@ -14,8 +16,10 @@
 #include <string>
 
 #include "net/asio.h"
+#include "net/http_listener.h"
 #include "net/publisher.h"
 #include "net/session.h"
+#include "net/transport.h"
 #include "sim/simulation.h"
 #include "sim/status.h"
 
@@ -28,6 +32,10 @@ struct ServerConfig {
   std::size_t max_connections = 1024;  // sessions at once, handshaking ones included
   AccessTokens access;                 // none set: every client is a controller
   std::string server_version;
+  // The HTTP endpoint (the viewer's page, WebSocket clients at /ws); off unless serve_http.
+  bool serve_http = false;
+  std::string http_host = "127.0.0.1";
+  std::uint16_t http_port = 8080;  // 0 picks a free port; see Server::http_port()
 };
 
 class Server {
@@ -37,21 +45,25 @@ class Server {
   Server(boost::asio::io_context& io, sim::Simulation& sim, ServerConfig config);
   ~Server();
 
-  // Binds and listens; fails with a sentence when the address is unusable.
+  // Binds and listens (TCP, then HTTP when on); fails with a sentence when
+  // an address is unusable.
   sim::Status start();
 
-  // Stops accepting and closes every session.
+  // Stops accepting and closes every session and HTTP connection.
   void stop();
 
-  // The port actually bound, once started.
+  // The TCP port actually bound, once started.
   std::uint16_t port() const { return port_; }
+
+  // The HTTP port actually bound, once started with serve_http; else 0.
+  std::uint16_t http_port() const { return http_ ? http_->port() : 0; }
 
   std::size_t session_count() const { return sessions_.size(); }
 
  private:
   void accept_next();
-  // Makes a session of a new connection, or refuses it when the server is full.
-  void admit(boost::asio::ip::tcp::socket socket);
+  // Makes a session of a new client, or refuses it when the server is full.
+  void admit(std::unique_ptr<Transport> transport);
   // Calls enforce_deadlines() on every session, then again after a while.
   void sweep_deadlines();
 
@@ -69,6 +81,7 @@ class Server {
   std::map<std::uint64_t, std::shared_ptr<Session>> refused_;
   std::uint64_t next_session_id_ = 1;
   std::uint16_t port_ = 0;
+  std::unique_ptr<HttpListener> http_;  // with serve_http, once started
 };
 
 }  // namespace tumble::net

@@ -26,20 +26,17 @@ std::string seconds_text(Clock::duration duration) {
 
 }  // namespace
 
-Session::Session(asio::ip::tcp::socket socket, std::uint64_t id, SessionContext& context, ClosedFn on_closed)
-    : socket_(std::move(socket)),
+Session::Session(std::unique_ptr<Transport> transport, std::uint64_t id, SessionContext& context, ClosedFn on_closed)
+    : transport_(std::move(transport)),
       id_(id),
       context_(context),
       on_closed_(std::move(on_closed)),
+      peer_(transport_->peer()),
       reader_(context.limits.max_frame_bytes),
       connected_at_(Clock::now()),
       command_budget_(context.limits.commands_per_second, context.limits.command_burst, connected_at_),
       linger_timer_(context.io) {
   ++context_.counters.clients;
-  boost::system::error_code ignored;
-  const auto endpoint = socket_.remote_endpoint(ignored);
-  peer_ = ignored ? std::string("unknown") : endpoint.address().to_string() + ":" + std::to_string(endpoint.port());
-  socket_.set_option(asio::ip::tcp::no_delay(true), ignored);
 }
 
 Session::~Session() {
@@ -47,17 +44,17 @@ Session::~Session() {
 }
 
 void Session::start() {
-  net_log().debug("session {}: connected from {}", id_, peer_);
+  net_log().debug("session {}: connected from {} over {}", id_, peer_, transport_->kind());
   read_more();
 }
 
 void Session::read_more() {
   if (closed_ || reading_stopped_) return;
   read_in_flight_ = true;
-  socket_.async_read_some(asio::buffer(read_buffer_),
-                          [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
-                            self->on_read(error, bytes);
-                          });
+  transport_->async_read_some(asio::buffer(read_buffer_),
+                              [self = shared_from_this()](const boost::system::error_code& error, std::size_t bytes) {
+                                self->on_read(error, bytes);
+                              });
 }
 
 void Session::on_read(const boost::system::error_code& error, std::size_t bytes) {
@@ -71,6 +68,11 @@ void Session::on_read(const boost::system::error_code& error, std::size_t bytes)
     } else {
       linger_read();
     }
+    return;
+  }
+  if (error.category() == transport_category()) {
+    // The client broke its transport's rules (a WebSocket text message).
+    fail(tumble::v1::MALFORMED_FRAME, error.message());
     return;
   }
   if (error) {
@@ -148,8 +150,8 @@ void Session::handle_hello(const ClientMessage& message) {
   welcome.set_body_count(context_.sim.body_count());
   welcome.set_role(role_);
   send(reply);
-  net_log().info("session {}: {} '{}' joined as {}", id_, peer_, client_name_,
-                 role_ == tumble::v1::ROLE_OBSERVER ? "an observer" : "a controller");
+  net_log().info("session {}: {} '{}' joined as {} over {}", id_, peer_, client_name_,
+                 role_ == tumble::v1::ROLE_OBSERVER ? "an observer" : "a controller", transport_->kind());
 }
 
 bool Session::admit(const ClientMessage& message) {
@@ -323,7 +325,7 @@ void Session::send_delta_frame(std::uint32_t stream, std::shared_ptr<const Quant
 }
 
 void Session::write_more() {
-  if (closed_) return;
+  if (closed_ || shut_down_) return;
   if (outbound_.empty()) {
     if (close_when_flushed_) linger();
     return;
@@ -333,10 +335,8 @@ void Session::write_more() {
   write_buffers_.clear();
   for (std::string_view piece : in_flight_.pieces) write_buffers_.emplace_back(piece.data(), piece.size());
   writing_ = true;
-  asio::async_write(socket_, write_buffers_,
-                    [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
-                      self->on_written(error);
-                    });
+  transport_->async_write(write_buffers_,
+                          [self = shared_from_this()](const boost::system::error_code& error) { self->on_written(error); });
 }
 
 void Session::on_written(const boost::system::error_code& error) {
@@ -351,8 +351,9 @@ void Session::on_written(const boost::system::error_code& error) {
 }
 
 void Session::linger() {
-  boost::system::error_code ignored;
-  socket_.shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+  shut_down_ = true;
+  // The handler only keeps the session alive while the transport shuts down.
+  transport_->async_shutdown(close_reason_, [self = shared_from_this()](const boost::system::error_code&) {});
   linger_timer_.expires_after(std::chrono::seconds(2));
   linger_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
     if (!error) self->close(self->close_reason_);
@@ -364,15 +365,15 @@ void Session::linger_read() {
   // Discard whatever the client still sends until it closes its side.
   if (closed_) return;
   read_in_flight_ = true;
-  socket_.async_read_some(asio::buffer(read_buffer_),
-                          [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
-                            self->read_in_flight_ = false;
-                            if (error) {
-                              self->close(self->close_reason_);
-                            } else {
-                              self->linger_read();
-                            }
-                          });
+  transport_->async_read_some(asio::buffer(read_buffer_),
+                              [self = shared_from_this()](const boost::system::error_code& error, std::size_t) {
+                                self->read_in_flight_ = false;
+                                if (error) {
+                                  self->close(self->close_reason_);
+                                } else {
+                                  self->linger_read();
+                                }
+                              });
 }
 
 void Session::close(const std::string& reason) {
@@ -380,9 +381,7 @@ void Session::close(const std::string& reason) {
   closed_ = true;
   --context_.counters.clients;
   net_log().info("session {}: {} disconnected: {}", id_, peer_, reason);
-  boost::system::error_code ignored;
-  socket_.shutdown(asio::ip::tcp::socket::shutdown_both, ignored);
-  socket_.close(ignored);
+  transport_->close();
   linger_timer_.cancel();
   context_.publisher.remove_session(*this);
   if (on_closed_) on_closed_(id_);

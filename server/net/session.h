@@ -1,5 +1,7 @@
 // One client connection: reads frames, checks them, forwards requests to the
-// sim or the publisher, and writes replies and pose frames back.
+// sim or the publisher, and writes replies and pose frames back. The bytes
+// travel over a Transport, a TCP socket or a WebSocket; every rule below is
+// the same for both.
 //
 // Lifecycle: the first frame must be Hello (answered by Welcome); any other
 // first message, no Hello within the handshake timeout, a token the server
@@ -29,6 +31,7 @@
 #include "net/net_counters.h"
 #include "net/outbound_queue.h"
 #include "net/token_bucket.h"
+#include "net/transport.h"
 #include "tumble/v1/protocol.pb.h"
 #include "wire/frame.h"
 
@@ -67,7 +70,7 @@ class Session : public std::enable_shared_from_this<Session> {
  public:
   using ClosedFn = std::function<void(std::uint64_t session_id)>;
 
-  Session(boost::asio::ip::tcp::socket socket, std::uint64_t id, SessionContext& context, ClosedFn on_closed);
+  Session(std::unique_ptr<Transport> transport, std::uint64_t id, SessionContext& context, ClosedFn on_closed);
   ~Session();
 
   // Starts reading. Call once, after the Session is owned by a shared_ptr.
@@ -125,7 +128,7 @@ class Session : public std::enable_shared_from_this<Session> {
   void linger();
   void linger_read();
 
-  boost::asio::ip::tcp::socket socket_;
+  std::unique_ptr<Transport> transport_;
   const std::uint64_t id_;
   SessionContext& context_;
   ClosedFn on_closed_;
@@ -150,6 +153,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::chrono::steady_clock::time_point queued_since_;     // when the oldest entry in outbound_ was queued
   std::chrono::steady_clock::time_point in_flight_since_;  // when the oldest entry in in_flight_ was queued
   bool close_when_flushed_ = false;
+  bool shut_down_ = false;  // linger() has ended the sending side: nothing more is written
   std::string close_reason_;
   boost::asio::steady_timer linger_timer_;
 };

@@ -1,0 +1,60 @@
+// A Session's stream over a WebSocket (RFC 6455, Boost.Beast): the protocol's
+// byte stream carried in binary messages. The payloads of the messages a
+// client sends, concatenated, are read exactly as the bytes of a TCP
+// connection, wherever the message boundaries fall (a client may send one
+// frame per message, or split a frame over several); each write of the
+// Session goes out as one binary message, which may hold several frames. A
+// text message is refused (TransportError::text_message). When the Session
+// closes after an Error, the close frame carries the Error's sentence with
+// code 1008 (policy violation).
+//
+// Thread: the I/O thread only.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http/empty_body.hpp>
+#include <boost/beast/http/message.hpp>
+#include <boost/beast/websocket/stream.hpp>
+
+#include "net/asio.h"
+#include "net/transport.h"
+
+namespace tumble::net {
+
+class WebSocketTransport final : public Transport {
+ public:
+  using Stream = boost::beast::websocket::stream<boost::beast::tcp_stream>;
+  using UpgradeRequest = boost::beast::http::request<boost::beast::http::empty_body>;
+
+  // Takes a connection whose HTTP request asked for a WebSocket upgrade;
+  // call async_accept() with that request before anything else.
+  explicit WebSocketTransport(boost::beast::tcp_stream stream);
+
+  // Answers the upgrade request (101 Switching Protocols, or a 400 for a
+  // malformed upgrade, then an error). The opening and the closing
+  // handshakes each have 10 s.
+  void async_accept(const UpgradeRequest& request, DoneHandler handler);
+
+  void async_read_some(boost::asio::mutable_buffer buffer, ReadHandler handler) override;
+  void async_write(const std::vector<boost::asio::const_buffer>& buffers, DoneHandler handler) override;
+  // Sends a close frame with code 1008 and `reason` (cut to the 123 bytes a
+  // close frame holds); the read under way ends when the peer's close frame
+  // comes. Completes at once when the WebSocket is already closing.
+  void async_shutdown(const std::string& reason, DoneHandler handler) override;
+  void close() override;
+  const std::string& peer() const override { return peer_; }
+  const char* kind() const override { return "WebSocket"; }
+
+ private:
+  Stream ws_;
+  std::string peer_;
+  bool refused_text_ = false;  // a text message was reported; later reads just drain
+};
+
+// `reason` cut to at most `max_bytes`, never inside a UTF-8 sequence.
+std::string truncate_utf8(const std::string& reason, std::size_t max_bytes);
+
+}  // namespace tumble::net

@@ -1,0 +1,385 @@
+// The protocol over WebSocket (/ws of the HTTP endpoint), on real sockets:
+// the same frames and the same rules as over TCP, whatever the message
+// boundaries, with refusals that close with a clear reason.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "raw_client.h"
+#include "replies.h"
+#include "test_server.h"
+#include "ws_client.h"
+
+namespace tumble::test {
+namespace {
+
+using std::chrono::milliseconds;
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+namespace websocket = boost::beast::websocket;
+
+const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
+    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
+    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
+
+net::ServerConfig with_http(net::SessionLimits limits = {}) {
+  net::ServerConfig config;
+  config.serve_http = true;
+  config.limits = limits;
+  return config;
+}
+
+ClientMessage list_bodies(std::uint64_t id) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_list_bodies();
+  return m;
+}
+
+ClientMessage subscribe(std::uint64_t id, double rate_hz) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_subscribe()->set_rate_hz(rate_hz);
+  return m;
+}
+
+ClientMessage get_stats(std::uint64_t id) {
+  ClientMessage m;
+  m.set_request_id(id);
+  m.mutable_get_stats();
+  return m;
+}
+
+bool is_frame(const ServerMessage& m) { return m.has_pose_frame(); }
+
+// The server's count of connected clients, asked over `client` until it is
+// `expected` (the server notices a departure when it next reads).
+template <class Client>
+bool clients_become(Client& client, std::uint32_t expected) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  for (std::uint64_t id = 1000; std::chrono::steady_clock::now() < deadline; ++id) {
+    if (!client.send(get_stats(id))) return false;
+    const auto stats = client.read_until([&](const ServerMessage& m) { return is_reply_to(m, id); });
+    if (!stats || !stats->has_stats()) return false;
+    if (stats->stats().clients() == expected) return true;
+    std::this_thread::sleep_for(milliseconds(50));
+  }
+  return false;
+}
+
+class WebSocketTest : public ::testing::Test {
+ protected:
+  TestServer server_{kScene, 240, with_http()};
+};
+
+TEST_F(WebSocketTest, HelloIsAnsweredByWelcome) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.connected()) << "handshake status " << client.handshake_status();
+  EXPECT_EQ(client.handshake_status(), 101u);
+  const auto welcome = client.handshake();
+  ASSERT_TRUE(welcome && welcome->has_welcome()) << (welcome ? welcome->DebugString() : "no reply");
+  EXPECT_EQ(welcome->welcome().protocol_version(), 1u);
+  EXPECT_EQ(welcome->welcome().body_count(), 2u);
+  EXPECT_EQ(welcome->welcome().role(), tumble::v1::ROLE_CONTROLLER);
+}
+
+TEST_F(WebSocketTest, ListBodiesGetsTheBodyList) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(list_bodies(2)));
+  const auto list = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(list && list->has_body_list());
+  ASSERT_EQ(list->body_list().bodies_size(), 2);
+  EXPECT_EQ(list->body_list().bodies(0).name(), "crate");
+  EXPECT_EQ(list->body_list().bodies(1).name(), "ball");
+}
+
+// A WebSocket subscriber and a TCP one on the same stream get the same
+// frames, byte for byte: the WebSocket carries exactly the TCP protocol.
+TEST_F(WebSocketTest, PoseFramesAreTheSameAsOverTcp) {
+  WsClient ws(server_.http_port());
+  RawClient tcp(server_.port());
+  ASSERT_TRUE(ws.handshake());
+  ASSERT_TRUE(tcp.handshake());
+  ASSERT_TRUE(ws.send(subscribe(2, 0)));  // every tick
+  ASSERT_TRUE(tcp.send(subscribe(2, 0)));
+  const auto ws_subscribed = ws.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  const auto tcp_subscribed = tcp.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(ws_subscribed && ws_subscribed->has_subscribed());
+  ASSERT_TRUE(tcp_subscribed && tcp_subscribed->has_subscribed());
+  EXPECT_EQ(ws_subscribed->subscribed().subscription_id(), tcp_subscribed->subscribed().subscription_id());
+
+  std::map<std::uint64_t, std::string> tcp_frames;  // tick -> serialized frame
+  for (int i = 0; i < 30; ++i) {
+    const auto frame = tcp.read_until(is_frame);
+    ASSERT_TRUE(frame);
+    tcp_frames[frame->pose_frame().tick()] = frame->SerializeAsString();
+  }
+  int compared = 0;
+  std::uint64_t last_tick = 0;
+  for (int i = 0; i < 30; ++i) {
+    const auto frame = ws.read_until(is_frame);
+    ASSERT_TRUE(frame);
+    EXPECT_GT(frame->pose_frame().tick(), last_tick);
+    last_tick = frame->pose_frame().tick();
+    EXPECT_EQ(frame->pose_frame().ids_size(), 2);
+    const auto same_tick = tcp_frames.find(last_tick);
+    if (same_tick == tcp_frames.end()) continue;
+    EXPECT_EQ(frame->SerializeAsString(), same_tick->second) << "tick " << last_tick;
+    ++compared;
+  }
+  EXPECT_GT(compared, 0);
+}
+
+TEST_F(WebSocketTest, AnImpulseShowsFromItsAppliedTick) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.handshake());
+  ClientMessage watch = subscribe(1, 0);
+  watch.mutable_subscribe()->add_bodies()->set_name("crate");
+  ASSERT_TRUE(client.send(watch));
+  ASSERT_TRUE(client.read_until([](const ServerMessage& m) { return m.has_subscribed(); }));
+  ClientMessage impulse;
+  impulse.set_request_id(2);
+  impulse.mutable_apply_impulse()->mutable_body()->set_name("crate");
+  impulse.mutable_apply_impulse()->mutable_impulse()->set_y(4);  // 4 N s on 2 kg: 2 m/s
+  ASSERT_TRUE(client.send(impulse));
+  const auto ack = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(ack && ack->has_ack());
+  const std::uint64_t applied = ack->ack().applied_tick();
+  // Frames are latest-wins, so the one of the applied tick itself may be
+  // skipped: at rest before it, 2 m/s from it on.
+  for (;;) {
+    const auto frame = client.read_until(is_frame);
+    ASSERT_TRUE(frame);
+    if (frame->pose_frame().tick() < applied) {
+      EXPECT_EQ(frame->pose_frame().linear_velocities(1), 0.0f) << "tick " << frame->pose_frame().tick();
+      continue;
+    }
+    EXPECT_FLOAT_EQ(frame->pose_frame().linear_velocities(1), 2.0f);
+    break;
+  }
+}
+
+TEST_F(WebSocketTest, AFrameSplitOverTwoMessagesIsReadWhole) {
+  WsClient client(server_.http_port());
+  ClientMessage hello;
+  hello.set_request_id(1);
+  hello.mutable_hello()->set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
+  hello.mutable_hello()->set_client_name("split");
+  const std::string bytes = wire::encode_frame(hello);
+  ASSERT_TRUE(client.send_bytes(bytes.substr(0, 1)));  // the length prefix alone
+  ASSERT_TRUE(client.send_bytes(bytes.substr(1)));
+  const auto welcome = client.read();
+  ASSERT_TRUE(welcome && welcome->has_welcome()) << (welcome ? welcome->DebugString() : "no reply");
+}
+
+TEST_F(WebSocketTest, SeveralFramesInOneMessageAreEachRead) {
+  WsClient client(server_.http_port());
+  ClientMessage hello;
+  hello.set_request_id(1);
+  hello.mutable_hello()->set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
+  ASSERT_TRUE(client.send_bytes(wire::encode_frame(hello) + wire::encode_frame(list_bodies(2)) +
+                                wire::encode_frame(list_bodies(3))));
+  const auto welcome = client.read();
+  ASSERT_TRUE(welcome && welcome->has_welcome());
+  EXPECT_TRUE(client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2) && m.has_body_list(); }));
+  EXPECT_TRUE(client.read_until([](const ServerMessage& m) { return is_reply_to(m, 3) && m.has_body_list(); }));
+}
+
+TEST_F(WebSocketTest, MalformedFrameGetsAnErrorThenACloseFrameWithTheReason) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send_bytes(std::string("\x04\xff\xff\xff\xff", 5)));  // 4 bytes that are no ClientMessage
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error()) << (reply ? reply->DebugString() : "no reply");
+  EXPECT_EQ(reply->error().code(), tumble::v1::MALFORMED_FRAME);
+  EXPECT_TRUE(client.closed_by_server());
+  ASSERT_TRUE(client.got_close_frame());
+  EXPECT_EQ(client.close_reason().code, websocket::close_code::policy_error);
+  EXPECT_EQ(std::string(client.close_reason().reason), reply->error().message());
+
+  WsClient next(server_.http_port());
+  const auto welcome = next.handshake();
+  EXPECT_TRUE(welcome && welcome->has_welcome());
+}
+
+TEST_F(WebSocketTest, ATextMessageIsRefusedWithAClearReason) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send_text("{\"hello\": {}}"));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error()) << (reply ? reply->DebugString() : "no reply");
+  EXPECT_EQ(reply->error().code(), tumble::v1::MALFORMED_FRAME);
+  EXPECT_NE(reply->error().message().find("binary messages only"), std::string::npos) << reply->error().message();
+  EXPECT_TRUE(client.closed_by_server());
+  ASSERT_TRUE(client.got_close_frame());
+  EXPECT_EQ(client.close_reason().code, websocket::close_code::policy_error);
+  EXPECT_EQ(std::string(client.close_reason().reason), reply->error().message());
+}
+
+TEST_F(WebSocketTest, AFirstMessageOtherThanHelloIsRefused) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.send(list_bodies(7)));
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::HANDSHAKE_REQUIRED);
+  EXPECT_EQ(reply->error().request_id(), 7u);
+  EXPECT_TRUE(client.closed_by_server());
+}
+
+TEST_F(WebSocketTest, APageOfAnotherOriginIsRefused) {
+  WsClient foreign(server_.http_port(), "http://attacker.example");
+  EXPECT_FALSE(foreign.connected());
+  EXPECT_EQ(foreign.handshake_status(), 403u);
+  // The page the server itself serves has the server's origin.
+  WsClient own(server_.http_port(), "http://127.0.0.1:" + std::to_string(server_.http_port()));
+  ASSERT_TRUE(own.connected());
+  const auto welcome = own.handshake();
+  EXPECT_TRUE(welcome && welcome->has_welcome());
+}
+
+// A subscriber on WebSocket that disappears without a closing handshake
+// costs a TCP subscriber nothing: its frames go on, tick after tick.
+TEST_F(WebSocketTest, AVanishingWebSocketSubscriberDoesNotDisturbATcpOne) {
+  RawClient tcp(server_.port());
+  ASSERT_TRUE(tcp.handshake());
+  ASSERT_TRUE(tcp.send(subscribe(2, 0)));
+  ASSERT_TRUE(tcp.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); }));
+  {
+    WsClient ws(server_.http_port());
+    ASSERT_TRUE(ws.handshake());
+    ASSERT_TRUE(ws.send(subscribe(2, 0)));
+    ASSERT_TRUE(ws.read_until(is_frame));
+    ASSERT_TRUE(clients_become(tcp, 2));
+    ws.vanish();
+  }
+  const auto first = tcp.read_until(is_frame);
+  ASSERT_TRUE(first);
+  std::uint64_t tick = first->pose_frame().tick();
+  const std::uint64_t until = tick + 240;  // a second of ticks
+  while (tick < until) {
+    const auto frame = tcp.read_until(is_frame);
+    ASSERT_TRUE(frame) << "frames stopped at tick " << tick;
+    EXPECT_GT(frame->pose_frame().tick(), tick);
+    tick = frame->pose_frame().tick();
+  }
+  EXPECT_TRUE(clients_become(tcp, 1));
+}
+
+TEST(WebSocketAccess, AWrongTokenIsUnauthenticatedAndTheRightOneIsAController) {
+  net::ServerConfig config = with_http();
+  config.access.controller = "secret";
+  TestServer server(kScene, 240, config);
+
+  WsClient wrong(server.http_port());
+  const auto refused = wrong.handshake("ws-test", "guess");
+  ASSERT_TRUE(refused && refused->has_error());
+  EXPECT_EQ(refused->error().code(), tumble::v1::UNAUTHENTICATED);
+  EXPECT_TRUE(wrong.closed_by_server());
+  ASSERT_TRUE(wrong.got_close_frame());
+  EXPECT_EQ(std::string(wrong.close_reason().reason), "the access token in Hello is not accepted by this server");
+
+  WsClient right(server.http_port());
+  const auto welcome = right.handshake("ws-test", "secret");
+  ASSERT_TRUE(welcome && welcome->has_welcome());
+  EXPECT_EQ(welcome->welcome().role(), tumble::v1::ROLE_CONTROLLER);
+}
+
+TEST(WebSocketLimits, WebSocketClientsCountTowardMaxConnections) {
+  net::ServerConfig config = with_http();
+  config.max_connections = 2;
+  TestServer server(kScene, 240, config);
+
+  RawClient tcp(server.port());
+  ASSERT_TRUE(tcp.handshake());
+  WsClient ws(server.http_port());
+  ASSERT_TRUE(ws.handshake());
+  EXPECT_TRUE(clients_become(tcp, 2));
+
+  // Full: a third client is refused, over either transport.
+  WsClient third_ws(server.http_port());
+  ASSERT_TRUE(third_ws.connected());  // the WebSocket handshake is HTTP's; the refusal is the protocol's
+  const auto refused_ws = third_ws.read();
+  ASSERT_TRUE(refused_ws && refused_ws->has_error());
+  EXPECT_EQ(refused_ws->error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+  EXPECT_TRUE(third_ws.closed_by_server());
+  RawClient third_tcp(server.port());
+  const auto refused_tcp = third_tcp.read();
+  ASSERT_TRUE(refused_tcp && refused_tcp->has_error());
+  EXPECT_EQ(refused_tcp->error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+
+  // The WebSocket client leaves: its place is free again.
+  ws.vanish();
+  ASSERT_TRUE(clients_become(tcp, 1));
+  WsClient again(server.http_port());
+  const auto welcome = again.handshake();
+  EXPECT_TRUE(welcome && welcome->has_welcome());
+}
+
+TEST(WebSocketLimits, AWebSocketThatNeverSaysHelloIsCutOff) {
+  net::SessionLimits limits;
+  limits.handshake_timeout = milliseconds(300);
+  TestServer server(kScene, 240, with_http(limits));
+  WsClient silent(server.http_port());
+  ASSERT_TRUE(silent.connected());
+  const auto reply = silent.read(std::chrono::seconds(20));
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::HANDSHAKE_REQUIRED);
+  EXPECT_EQ(reply->error().message(), "no Hello within 0.3 s of connecting");
+  EXPECT_TRUE(silent.closed_by_server());
+}
+
+TEST(WebSocketLimits, RequestsOverTheRateAreRefused) {
+  net::SessionLimits limits;
+  limits.commands_per_second = 5;
+  limits.command_burst = 5;
+  TestServer server(kScene, 240, with_http(limits));
+  WsClient client(server.http_port());
+  ASSERT_TRUE(client.handshake());
+  std::string burst;
+  for (std::uint64_t id = 1; id <= 20; ++id) burst += wire::encode_frame(list_bodies(id));
+  ASSERT_TRUE(client.send_bytes(burst));
+  int served = 0;
+  int limited = 0;
+  std::set<std::uint64_t> answered;
+  while (answered.size() < 20) {
+    const auto reply = client.read();
+    ASSERT_TRUE(reply) << "only " << answered.size() << " replies";
+    for (std::uint64_t id = 1; id <= 20; ++id) {
+      if (!is_reply_to(*reply, id) || !answered.insert(id).second) continue;
+      if (reply->has_body_list()) ++served;
+      if (reply->has_error() && reply->error().code() == tumble::v1::RATE_LIMITED) ++limited;
+    }
+  }
+  EXPECT_GE(served, 5);
+  EXPECT_GE(limited, 10);
+  EXPECT_EQ(served + limited, 20);
+}
+
+TEST(WebSocketLimits, AWebSocketClientThatStopsReadingIsDisconnected) {
+  net::SessionLimits limits;
+  limits.max_undelivered = milliseconds(500);
+  std::ostringstream scene;  // 400 spheres: frames of kilobytes, every tick
+  scene << R"({"gravity": [0, 0, 0], "bodies": [)";
+  for (int i = 0; i < 400; ++i) {
+    scene << (i ? "," : "") << R"({"shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [)" << 3 * i
+          << ", 0, 0]}";
+  }
+  scene << "]}";
+  TestServer server(scene.str(), 240, with_http(limits));
+  RawClient observer(server.port());
+  ASSERT_TRUE(observer.handshake());
+
+  WsClient sleeper(server.http_port());
+  ASSERT_TRUE(sleeper.handshake());
+  ASSERT_TRUE(sleeper.send(subscribe(2, 0)));
+  // Never reads: once the socket buffers are full a frame waits, and after
+  // 0.5 s of that the server lets go of the client.
+  EXPECT_TRUE(clients_become(observer, 1));
+}
+
+}  // namespace
+}  // namespace tumble::test

@@ -1,0 +1,172 @@
+// The viewer's protocol code (web/src/framing.js, protocol.js, schema.js)
+// against the real tumbled over TCP: the server's bytes are the same on TCP
+// and on the WebSocket, so this checks the decoding the page does, without a
+// browser.
+//
+//   node protocol_test.mjs --tumbled PATH --scene scenes/demo.json
+//
+// Exits 77 (ctest's skip) when web/node_modules (protobufjs) is missing.
+import assert from "node:assert/strict";
+import net from "node:net";
+import { parseArgs } from "node:util";
+import { test } from "node:test";
+
+import { missingNodeModules } from "./browser.mjs";
+import { startTumbled } from "./tumbled.mjs";
+
+const { values: options } = parseArgs({
+  options: { tumbled: { type: "string" }, scene: { type: "string" } },
+});
+const missing = missingNodeModules();
+if (missing) {
+  console.log(`SKIP: the viewer's protocol test needs ${missing}`);
+  process.exit(77);
+}
+// After the check: these import protobufjs from web/node_modules.
+const { FrameReader, FramingError, encodeFrame } = await import("../../web/src/framing.js");
+const { ProtocolError, Session } = await import("../../web/src/protocol.js");
+const { protocolTypes } = await import("../../web/src/schema.js");
+const { loadProtocolRoot } = await import("../../web/proto-schema.mjs");
+const types = protocolTypes(loadProtocolRoot());
+const kWaitMs = 20000;  // generous bound for anything the server should do at once
+
+// A Session over a TCP socket to 127.0.0.1:port. With `bytesPerChunk`, what
+// arrives is fed to the session that many bytes at a time, so frames are
+// split at every possible place.
+function connect(port, bytesPerChunk = 0) {
+  return new Promise((resolve, reject) => {
+    const socket = net.connect(port, "127.0.0.1");
+    const session = new Session(types, (bytes) => socket.write(bytes));
+    socket.on("data", (data) => {
+      const bytes = new Uint8Array(data.buffer, data.byteOffset, data.length);
+      if (!bytesPerChunk) return session.receive(bytes);
+      for (let i = 0; i < bytes.length; i += bytesPerChunk) session.receive(bytes.slice(i, i + bytesPerChunk));
+    });
+    socket.on("close", () => session.close("the connection closed"));
+    socket.once("error", reject);
+    socket.once("connect", () => resolve({ session, socket }));
+  });
+}
+
+// Resolves with the first pose frame for which `accept(frame)` is true.
+function nextFrame(session, accept = () => true) {
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error("no matching pose frame")), kWaitMs);
+    session.onPoseFrame = (frame) => {
+      if (!accept(frame)) return;
+      clearTimeout(timer);
+      resolve(frame);
+    };
+  });
+}
+
+test("FrameReader splits a stream at any boundary and refuses broken prefixes", () => {
+  const bodies = [new Uint8Array(0), new Uint8Array(300).fill(7), Uint8Array.of(1, 2, 3)];
+  const stream = Uint8Array.from(bodies.flatMap((body) => [...encodeFrame(body)]));
+  assert.deepEqual([...encodeFrame(new Uint8Array(300))].slice(0, 2), [0xac, 0x02]);  // 300 as a varint
+  for (const chunk of [1, 2, 5, stream.length]) {
+    const reader = new FrameReader();
+    const got = [];
+    for (let i = 0; i < stream.length; i += chunk) {
+      reader.push(stream.subarray(i, i + chunk));
+      for (let body = reader.next(); body !== null; body = reader.next()) got.push([...body]);
+    }
+    assert.deepEqual(got, bodies.map((body) => [...body]), `chunks of ${chunk} bytes`);
+    assert.equal(reader.bufferedBytes(), 0);
+  }
+  const tooLong = new FrameReader();
+  tooLong.push(Uint8Array.of(0x80, 0x80, 0x80, 0x80, 0x80, 0x01));
+  assert.throws(() => tooLong.next(), FramingError);
+  const tooLarge = new FrameReader(100);
+  tooLarge.push(encodeFrame(new Uint8Array(101)).subarray(0, 2));  // the prefix alone decides
+  assert.throws(() => tooLarge.next(), /101 bytes/);
+});
+
+test("a session decodes the handshake, the body list, frames and replies of the real server", async () => {
+  const server = await startTumbled(options.tumbled, ["--scene", options.scene]);
+  try {
+    const { session, socket } = await connect(server.port, 3);
+    const welcome = await session.hello("");
+    assert.equal(welcome.role, types.Role.ROLE_CONTROLLER);
+    assert.equal(welcome.tickRateHz, 240);
+    assert.equal(welcome.bodyCount, 5);
+
+    const list = await session.request("listBodies");
+    const byName = new Map(list.bodies.map((body) => [body.name, body]));
+    assert.deepEqual([...byName.keys()].sort(), ["ball", "crate", "dumbbell", "pill", "tumbler"]);
+    assert.equal(byName.get("crate").shape.kind, "box");
+    assert.deepEqual({ ...byName.get("crate").shape.box.halfExtents }, { x: 0.5, y: 0.5, z: 0.5 });
+    assert.equal(byName.get("ball").shape.sphere.radius, 0.3);
+    assert.deepEqual([byName.get("pill").shape.capsule.radius, byName.get("pill").shape.capsule.halfHeight], [0.2, 0.4]);
+    assert.deepEqual(byName.get("dumbbell").shape.points.masses, [1, 1, 0.5]);
+    assert.equal(byName.get("crate").mass, 2);
+    assert.equal(byName.get("ball").position.x, 3);
+
+    const subscribed = await session.request("subscribe", {
+      rateHz: 60,
+      encoding: types.PoseEncoding.POSE_ENCODING_FULL,
+      events: [types.WorldEventKind.WORLD_EVENT_BODY_SPAWNED, types.WorldEventKind.WORLD_EVENT_BODY_REMOVED],
+    });
+    assert.equal(subscribed.periodTicks, 4);
+    assert.equal(subscribed.rateHz, 60);
+    const first = await nextFrame(session);
+    assert.equal(first.subscriptionId, subscribed.subscriptionId);
+    assert.equal(first.ids.length, 5);
+    assert.equal(first.positions.length, 15);
+    assert.equal(first.orientations.length, 20);
+    assert.equal(first.linearVelocities.length, 15);
+    // The first frame is the state at once; those after it come every 4 ticks.
+    const second = await nextFrame(session, (frame) => frame.tick > first.tick);
+    const later = await nextFrame(session, (frame) => frame.tick > second.tick);
+    assert.equal((later.tick - second.tick) % 4, 0);
+    assert.ok(Math.abs(later.simTime - later.tick / 240) < 1e-9);
+
+    // In zero gravity an impulse J on the crate (2 kg) gives it J / m.
+    const crate = byName.get("crate").id;
+    const ack = await session.request("applyImpulse", { body: { id: crate }, impulse: { x: 3, y: 0, z: -1 } });
+    const pushed = await nextFrame(session, (frame) => frame.tick >= ack.appliedTick);
+    const i = pushed.ids.indexOf(crate);
+    assert.ok(Math.abs(pushed.linearVelocities[3 * i] - 1.5) < 1e-6, `v.x ${pushed.linearVelocities[3 * i]}`);
+    assert.ok(Math.abs(pushed.linearVelocities[3 * i + 2] + 0.5) < 1e-6);
+
+    const spawnedEvent = new Promise((resolve) => { session.onWorldEvent = resolve; });
+    const spawned = await session.request("spawnBody", {
+      body: { name: "rock", shape: { sphere: { radius: 0.2 } }, mass: 1, position: { x: 0, y: 5, z: 0 } },
+    });
+    const event = await spawnedEvent;
+    assert.equal(event.kind, types.WorldEventKind.WORLD_EVENT_BODY_SPAWNED);
+    assert.equal(event.bodyId, spawned.bodyId);
+    assert.equal(event.bodyName, "rock");
+
+    await assert.rejects(session.request("applyImpulse", { body: { name: "nobody" }, impulse: { x: 1 } }),
+                         (error) => error instanceof ProtocolError && error.codeName === "UNKNOWN_BODY");
+    const stats = await session.request("getStats");  // the session goes on after an Error
+    assert.equal(stats.bodies, 6);
+    assert.ok(stats.tick >= pushed.tick);
+    socket.destroy();
+  } finally {
+    await server.stop();
+  }
+});
+
+test("roles come from the token, and an observer may not push", async () => {
+  const server = await startTumbled(options.tumbled, ["--scene", options.scene, "--token", "pilot", "--observer-token", "guest"]);
+  try {
+    const observer = await connect(server.port);
+    const welcome = await observer.session.hello("guest");
+    assert.equal(types.roleName(welcome.role), "ROLE_OBSERVER");
+    await assert.rejects(observer.session.request("applyImpulse", { body: { name: "crate" }, impulse: { x: 1 } }),
+                         (error) => error.codeName === "PERMISSION_DENIED");
+    observer.socket.destroy();
+
+    const stranger = await connect(server.port);
+    await assert.rejects(stranger.session.hello("wrong"), (error) => error.codeName === "UNAUTHENTICATED");
+    stranger.socket.destroy();
+
+    const controller = await connect(server.port);
+    assert.equal(types.roleName((await controller.session.hello("pilot")).role), "ROLE_CONTROLLER");
+    controller.socket.destroy();
+  } finally {
+    await server.stop();
+  }
+});
