@@ -54,12 +54,12 @@ void World::update_sleep(double dt) {
       island_members_.push_back(body);
       if (records_[body].sleep_time < time_to_sleep) can_sleep = false;
       for (ContactKey key = records_[body].contact_head; key != kNullContactKey;) {
-        const Contact& c = contacts_[key >> 1];
+        const ContactLink& link = links_[key >> 1];
         const std::uint32_t side = key & 1;
-        key = c.next[side];
-        if (c.manifold.point_count == 0) continue;
+        key = link.next[side];
+        if (!link.touching) continue;
         touches = true;
-        const std::uint32_t other = side == 0 ? c.body_b : c.body_a;
+        const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
         BodyRecord& other_record = records_[other];
         if (other_record.motion_type == MotionType::kinematic_body) {
           if (other_record.awake) can_sleep = false;  // carried by a moving body
@@ -92,6 +92,7 @@ void World::wake_island(std::uint32_t body) {
   island_stack_.clear();
   island_stack_.push_back(body);
   records_[body].awake = true;
+  if (collecting_woken_) woken_.push_back(body);
   while (!island_stack_.empty()) {
     const std::uint32_t i = island_stack_.back();
     island_stack_.pop_back();
@@ -101,15 +102,16 @@ void World::wake_island(std::uint32_t body) {
     external_[i] = SolverVelocity{};
     refresh_solver_data(i);
     for (ContactKey key = record.contact_head; key != kNullContactKey;) {
-      const Contact& c = contacts_[key >> 1];
+      const ContactLink& link = links_[key >> 1];
       const std::uint32_t side = key & 1;
-      key = c.next[side];
-      if (c.manifold.point_count == 0) continue;
-      const std::uint32_t other = side == 0 ? c.body_b : c.body_a;
+      key = link.next[side];
+      if (!link.touching) continue;
+      const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
       BodyRecord& other_record = records_[other];
       if (other_record.motion_type != MotionType::dynamic_body || other_record.awake) continue;
       other_record.awake = true;
       island_stack_.push_back(other);
+      if (collecting_woken_) woken_.push_back(other);
     }
   }
 }

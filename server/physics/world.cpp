@@ -415,20 +415,23 @@ std::size_t World::sleeping_body_count() const {
 
 std::size_t World::contact_count() const {
   std::size_t n = 0;
-  for (const Contact& c : contacts_) n += c.alive && c.manifold.point_count > 0 ? 1 : 0;
+  for (const ContactLink& link : links_) n += link.alive && link.touching ? 1 : 0;
   return n;
 }
 
 std::size_t World::contact_point_count() const {
   std::size_t n = 0;
-  for (const Contact& c : contacts_) n += c.alive ? static_cast<std::size_t>(c.manifold.point_count) : 0;
+  for (std::size_t k = 0; k < contacts_.size(); ++k) {
+    n += links_[k].alive ? static_cast<std::size_t>(contacts_[k].manifold.point_count) : 0;
+  }
   return n;
 }
 
 double World::max_penetration() const {
   double deepest = 0;
-  for (const Contact& c : contacts_) {
-    if (!c.alive) continue;
+  for (std::size_t slot = 0; slot < contacts_.size(); ++slot) {
+    if (!links_[slot].alive) continue;
+    const Contact& c = contacts_[slot];
     for (int k = 0; k < c.manifold.point_count; ++k) deepest = std::max(deepest, -c.manifold.points[k].separation);
   }
   return deepest;

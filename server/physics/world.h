@@ -238,6 +238,8 @@ class World {
   void relabel_body(std::uint32_t from, std::uint32_t to);
   void update_broadphase(double dt);
   void update_contacts();
+  // Updates the contacts of `body` not yet updated in this pass.
+  void update_contacts_of(std::uint32_t body);
   void update_manifold(Contact& contact, std::uint32_t index);
   void wake_overlapping(const Aabb& box);
 
@@ -279,16 +281,21 @@ class World {
   DynamicTree movable_tree_;
   std::vector<std::uint32_t> moved_;
 
-  // Contacts: slots with a free list; active_ lists those updated this step.
+  // Contacts: slots with a free list; active_ lists those touching this
+  // step. links_[k] is the hot part of contacts_[k] (contact.h).
   std::vector<Contact> contacts_;
+  std::vector<ContactLink> links_;
   std::vector<std::uint32_t> free_contacts_;
   std::vector<std::uint32_t> active_;
+  std::uint64_t contact_pass_ = 0;  // counts update_contacts() calls; see ContactLink::updated_pass
 
   ContactSolver solver_;
 
   // Island search scratch.
   std::vector<std::uint32_t> island_stack_;
   std::vector<std::uint32_t> island_members_;
+  std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
+  bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
 
   StepStats stats_;
 };

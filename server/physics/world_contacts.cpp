@@ -45,10 +45,10 @@ bool World::has_contact(std::uint32_t a, std::uint32_t b) const {
   // Walk the shorter of the two lists.
   if (records_[b].contact_count < records_[a].contact_count) std::swap(a, b);
   for (ContactKey key = records_[a].contact_head; key != kNullContactKey;) {
-    const Contact& c = contacts_[key >> 1];
+    const ContactLink& link = links_[key >> 1];
     const std::uint32_t side = key & 1;
-    if ((side == 0 ? c.body_b : c.body_a) == b) return true;
-    key = c.next[side];
+    if ((side == 0 ? link.body_b : link.body_a) == b) return true;
+    key = link.next[side];
   }
   return false;
 }
@@ -59,62 +59,70 @@ void World::create_contact(std::uint32_t a, std::uint32_t b) {
   if (free_contacts_.empty()) {
     slot = static_cast<std::uint32_t>(contacts_.size());
     contacts_.emplace_back();
+    links_.emplace_back();
   } else {
     slot = free_contacts_.back();
     free_contacts_.pop_back();
     contacts_[slot] = Contact{};
+    links_[slot] = ContactLink{};
   }
   Contact& c = contacts_[slot];
-  c.alive = true;
   c.body_a = a;
   c.body_b = b;
+  ContactLink& link = links_[slot];
+  link.alive = true;
+  link.body_a = a;
+  link.body_b = b;
   const std::uint32_t bodies[2] = {a, b};
   for (std::uint32_t side = 0; side < 2; ++side) {
     BodyRecord& record = records_[bodies[side]];
     const ContactKey key = (slot << 1) | side;
-    c.prev[side] = kNullContactKey;
-    c.next[side] = record.contact_head;
-    if (record.contact_head != kNullContactKey) contacts_[record.contact_head >> 1].prev[record.contact_head & 1] = key;
+    link.prev[side] = kNullContactKey;
+    link.next[side] = record.contact_head;
+    if (record.contact_head != kNullContactKey) links_[record.contact_head >> 1].prev[record.contact_head & 1] = key;
     record.contact_head = key;
     ++record.contact_count;
   }
 }
 
 void World::destroy_contact(std::uint32_t slot) {
-  Contact& c = contacts_[slot];
-  const std::uint32_t bodies[2] = {c.body_a, c.body_b};
+  ContactLink& link = links_[slot];
+  const std::uint32_t bodies[2] = {link.body_a, link.body_b};
   for (std::uint32_t side = 0; side < 2; ++side) {
     BodyRecord& record = records_[bodies[side]];
-    const ContactKey prev = c.prev[side];
-    const ContactKey next = c.next[side];
+    const ContactKey prev = link.prev[side];
+    const ContactKey next = link.next[side];
     if (prev != kNullContactKey) {
-      contacts_[prev >> 1].next[prev & 1] = next;
+      links_[prev >> 1].next[prev & 1] = next;
     } else {
       record.contact_head = next;
     }
-    if (next != kNullContactKey) contacts_[next >> 1].prev[next & 1] = prev;
+    if (next != kNullContactKey) links_[next >> 1].prev[next & 1] = prev;
     --record.contact_count;
   }
-  c.alive = false;
+  link.alive = false;
+  link.touching = false;
   free_contacts_.push_back(slot);
 }
 
 void World::destroy_contacts_of(std::uint32_t body, bool wake_others) {
   while (records_[body].contact_head != kNullContactKey) {
     const ContactKey key = records_[body].contact_head;
-    const Contact& c = contacts_[key >> 1];
-    const std::uint32_t other = (key & 1) == 0 ? c.body_b : c.body_a;
-    if (wake_others && c.manifold.point_count > 0) wake_island(other);
+    const ContactLink& link = links_[key >> 1];
+    const std::uint32_t other = (key & 1) == 0 ? link.body_b : link.body_a;
+    if (wake_others && link.touching) wake_island(other);
     destroy_contact(key >> 1);
   }
 }
 
 void World::relabel_body(std::uint32_t from, std::uint32_t to) {
   for (ContactKey key = records_[from].contact_head; key != kNullContactKey;) {
+    ContactLink& link = links_[key >> 1];
     Contact& c = contacts_[key >> 1];
     const std::uint32_t side = key & 1;
+    (side == 0 ? link.body_a : link.body_b) = to;
     (side == 0 ? c.body_a : c.body_b) = to;
-    key = c.next[side];
+    key = link.next[side];
   }
   const BodyRecord& record = records_[from];
   if (record.proxy != DynamicTree::kNull) {
@@ -178,14 +186,33 @@ void World::update_broadphase(double dt) {
 
 void World::update_contacts() {
   active_.clear();
-  for (std::uint32_t slot = 0; slot < contacts_.size(); ++slot) {
-    Contact& c = contacts_[slot];
-    if (!c.alive) continue;
-    const std::uint32_t a = c.body_a, b = c.body_b;
-    if (!records_[a].awake && !records_[b].awake) continue;  // asleep (or asleep against static)
+  woken_.clear();
+  collecting_woken_ = true;
+  ++contact_pass_;
+  // Only the contacts of awake bodies: a sleeping pair costs nothing (Box2D
+  // keeps such contacts in its sleeping solver sets for the same reason).
+  for (std::uint32_t i = 0; i < records_.size(); ++i) {
+    if (records_[i].awake) update_contacts_of(i);
+  }
+  // Bodies woken by a touch above with an index already passed: their
+  // contacts join this step too. The list grows while it is walked.
+  for (std::size_t k = 0; k < woken_.size(); ++k) update_contacts_of(woken_[k]);
+  collecting_woken_ = false;
+}
+
+void World::update_contacts_of(std::uint32_t body) {
+  const double half_margin = 0.5 * settings_.contact_margin;
+  for (ContactKey key = records_[body].contact_head; key != kNullContactKey;) {
+    const std::uint32_t slot = key >> 1;
+    ContactLink& link = links_[slot];
+    key = link.next[key & 1];  // read before the contact can be destroyed
+    if (link.updated_pass == contact_pass_) continue;  // reached from its other body
+    link.updated_pass = contact_pass_;
+    const std::uint32_t a = link.body_a, b = link.body_b;
 
     // Persistence: the pair lives while the fat boxes overlap.
     bool overlap;
+    bool can_touch = true;
     if (shapes_[b].type == ShapeType::plane) {
       Vec3 normal;
       double offset;
@@ -197,15 +224,31 @@ void World::update_contacts() {
       const Aabb& fat_b = (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
                               .fat_aabb(records_[b].proxy);
       overlap = fat_a.overlaps(fat_b);
+      // aabbs_[i] holds body i's shape grown by its reach this step (a
+      // body not stepped has reach 0 and its box from when it last moved).
+      // Apart by more than half the margin each, the shapes are farther
+      // apart than the manifold's reach (margin + both reaches): no points.
+      can_touch = aabbs_[a].expanded(half_margin).overlaps(aabbs_[b].expanded(half_margin));
     }
     if (!overlap) {
       destroy_contact(slot);
       continue;
     }
+    if (!can_touch) {
+      if (link.touching) {
+        Contact& c = contacts_[slot];
+        c.manifold.point_count = 0;
+        c.cached_max_separation = -1;  // the anchors describe points that are gone
+        link.touching = false;
+      }
+      continue;
+    }
 
+    Contact& c = contacts_[slot];
     update_manifold(c, slot);
     ++stats_.narrowphase_pairs;
-    if (c.manifold.point_count == 0) continue;
+    link.touching = c.manifold.point_count > 0;
+    if (!link.touching) continue;
     // Touching a sleeping body wakes its island.
     if (!records_[a].awake) wake_island(a);
     if (!records_[b].awake) wake_island(b);
