@@ -93,8 +93,9 @@ LatencyResult measure_latency(const LoadTarget& target, std::uint32_t probe, dou
         pending.waiting = false;
       }
     }
-    // 100 ms plus 0..49 ms in steps of 7 ms, which is prime to the pause's length.
-    std::this_thread::sleep_for(std::chrono::milliseconds(100 + (7 * step) % 50));
+    // 20 ms plus 0..49 ms in steps of 7 ms, which is prime to the pause's
+    // length: about 20 changes a second, each sent at another phase of the tick.
+    std::this_thread::sleep_for(std::chrono::milliseconds(20 + (7 * step) % 50));
   }
   stop = true;
   watching.join();

@@ -2,8 +2,8 @@
 // changes a body the first frame showing the change reaches a subscriber.
 //
 // A controller sets the probe body's velocity to a new value (cycling
-// through 0.5 to 4 m/s along x, and putting it back at its start) every 100
-// to 150 ms, varied so that the sends fall at every phase of the tick. A
+// through 0.5 to 4 m/s along x, and putting it back at its start) every 20
+// to 70 ms, varied so that the sends fall at every phase of the tick. A
 // watcher on a connection of its own, subscribed to the probe alone at the
 // tick rate (a frame every tick), reads frames on its own thread and stamps
 // the first one whose velocity is the new one. The figure is the tick's

@@ -5,9 +5,14 @@
 // force-to-visible latency (bench/net/latency_probe.h), and from the server
 // its overruns (GetStats) and CPU (/proc, when it runs on this machine).
 // Optionally it also sends world-changing requests at a fixed rate
-// (bench/net/command_load.h). It prints one line of key=value fields
+// (bench/net/command_load.h). The subscribers' threads run at a lower
+// priority (--subscriber-nice): on one machine with the server they would
+// otherwise take the cores that clients elsewhere would not. It prints one line of key=value fields
 // (bench/README.md), and exits 3 when any request or stream failed.
+#include <sys/resource.h>
+#include <sys/syscall.h>
 #include <sys/types.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
@@ -48,7 +53,16 @@ struct Options {
   double commands_per_second = 0;
   pid_t server_pid = 0;
   unsigned spawners = 16;
+  int subscriber_nice = 10;
 };
+
+// Gives the calling thread this nice value (Linux: per thread). Best effort.
+void set_thread_nice(int nice) {
+  if (nice == 0) return;
+  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice) != 0) {
+    std::perror("net_load: setpriority");
+  }
+}
 
 // The measured window, set once every subscriber is in; a subscriber counts
 // the frames that arrive inside it and stops at its end.
@@ -96,6 +110,7 @@ std::uint64_t framed_size(const tumble::v1::ServerMessage& message) {
 // load generator shares the machine with the server.
 Tally run_subscriber(const Options& options, unsigned index, const std::vector<std::uint32_t>& bodies,
                      std::atomic<unsigned>& ready, const Window& window) {
+  set_thread_nice(options.subscriber_nice);
   tumble::client::Connection connection =
       tumble::bench::connect_or_exit(options.target, "net_load-" + std::to_string(index));
   tumble::v1::Subscribe request;
@@ -201,6 +216,11 @@ int main(int argc, char** argv) {
   app.add_option("--spawners", options.spawners, "Connections that spawn the world at once")
       ->capture_default_str()
       ->check(CLI::Range(1u, 256u));
+  app.add_option("--subscriber-nice", options.subscriber_nice,
+                 "Nice value of the subscribers' threads: they stand for clients on other machines, so by default "
+                 "they take only the CPU the server leaves; the latency probe keeps the process's")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 19));
   CLI11_PARSE(app, argc, argv);
 
   tumble::client::Connection controller = tumble::bench::connect_or_exit(options.target, "net_load");
@@ -286,7 +306,7 @@ int main(int argc, char** argv) {
       "bytes_per_body_frame=%.2f bytes_per_body_frame_max=%.2f kbit_per_s_per_subscriber=%.1f "
       "frames=%llu frames_expected=%.0f frames_min_percent=%.1f "
       "latency_samples=%zu latency_lost=%llu latency_ms_p50=%.2f latency_ms_p99=%.2f latency_goal_ms=%.2f "
-      "overruns=%llu ticks=%llu server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu\n",
+      "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu\n",
       options.world.c_str(), options.encoding.c_str(), options.subscribers, options.bodies, options.rate_hz,
       after.tick_rate_hz(), options.seconds,
       total.body_slots > 0 ? static_cast<double>(total.bytes) / static_cast<double>(total.body_slots) : 0.0,
@@ -295,7 +315,8 @@ int main(int argc, char** argv) {
       100 * min_frames / expected_each, latency.latencies_ms.size(), static_cast<unsigned long long>(latency.lost),
       tumble::bench::percentile(latency.latencies_ms, 0.5), tumble::bench::percentile(latency.latencies_ms, 0.99),
       1000 / after.tick_rate_hz() + 2, static_cast<unsigned long long>(after.overruns() - before.overruns()),
-      static_cast<unsigned long long>(after.tick() - before.tick()), server_cpu.c_str(), own_cpu.c_str(),
+      static_cast<unsigned long long>(after.tick() - before.tick()), after.tick_ms_p50(), after.tick_ms_p99(),
+      server_cpu.c_str(), own_cpu.c_str(),
       static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
   return errors == 0 ? 0 : 3;
 }

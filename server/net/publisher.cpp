@@ -79,8 +79,10 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
                                           [&](const Member& m) { return m.key == session.get(); });
   if (!already_member) it->members.push_back({session.get(), session});
   it->awaiting_first.push_back({session.get(), session});
+  const Subscription subscription{it->id, period, tick_rate / period, encoding};
+  order_streams();  // `it` is not used past here
   sim_.request_snapshot();
-  return Subscription{it->id, period, tick_rate / period, encoding};
+  return subscription;
 }
 
 bool Publisher::request_key_frame(const std::shared_ptr<Session>& session, std::uint32_t stream_id) {
@@ -104,6 +106,7 @@ bool Publisher::unsubscribe(const Session& session, std::uint32_t stream_id) {
     streams_.erase(it);
     update_sim_interest();
   }
+  order_streams();
   return removed > 0;
 }
 
@@ -115,6 +118,18 @@ void Publisher::remove_session(const Session& session) {
   }
   const std::size_t removed = std::erase_if(streams_, [](const Stream& s) { return s.members.empty(); });
   if (removed > 0) update_sim_interest();
+  order_streams();
+}
+
+void Publisher::order_streams() {
+  // Bodies a frame carries times the sessions it goes to; a stream of
+  // every body counts as larger than any filtered one.
+  const auto cost = [](const Stream& s) {
+    const std::uint64_t bodies = s.all_bodies ? std::uint64_t{1} << 32 : s.bodies.size();
+    return bodies * s.members.size();
+  };
+  std::stable_sort(streams_.begin(), streams_.end(),
+                   [&](const Stream& a, const Stream& b) { return cost(a) < cost(b); });
 }
 
 void Publisher::offer(std::shared_ptr<const sim::Snapshot> snapshot) {

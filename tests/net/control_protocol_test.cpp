@@ -290,6 +290,23 @@ TEST_F(ControlProtocolTest, AnUnknownEventKindIsInvalid) {
   EXPECT_EQ(reply.error().code(), tumble::v1::INVALID_ARGUMENT);
 }
 
+TEST_F(ControlProtocolTest, AStreamOfFewerBodiesIsSentFirstInItsTick) {
+  // Publisher order: cheapest stream first, whatever order they were made in.
+  const std::uint64_t at = call(pause(1)).ack().applied_tick();
+  const ServerMessage all = call(subscribe(2, 240, tumble::v1::POSE_FIELDS_POSE));
+  const ServerMessage ball = call(subscribe(3, 240, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"}));
+  ASSERT_TRUE(all.has_subscribed() && ball.has_subscribed());
+  ASSERT_TRUE(call(step(4, 1)).has_ack());
+  std::vector<std::uint32_t> order;
+  while (order.size() < 2) {
+    const auto frame = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+    ASSERT_TRUE(frame) << "two frames of tick " << at + 1;
+    if (frame->pose_frame().tick() == at + 1) order.push_back(frame->pose_frame().subscription_id());
+  }
+  EXPECT_EQ(order[0], ball.subscribed().subscription_id());
+  EXPECT_EQ(order[1], all.subscribed().subscription_id());
+}
+
 TEST_F(ControlProtocolTest, TheTickRateChangesForSubscriptionsMadeAfter) {
   ClientMessage rate;
   rate.set_request_id(1);
