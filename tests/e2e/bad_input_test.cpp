@@ -23,6 +23,7 @@
 #include "cli_helpers.h"
 #include "raw_client.h"
 #include "replies.h"
+#include "requests.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -62,36 +63,6 @@ ClientMessage hello(const std::string& token = "", const std::string& name = "ba
   m.mutable_hello()->set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
   m.mutable_hello()->set_client_name(name);
   m.mutable_hello()->set_token(token);
-  return m;
-}
-
-ClientMessage list_bodies(std::uint64_t id) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_list_bodies();
-  return m;
-}
-
-ClientMessage force(std::uint64_t id, const std::string& body, double fx) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_apply_force()->mutable_body()->set_name(body);
-  m.mutable_apply_force()->mutable_force()->set_x(fx);
-  return m;
-}
-
-ClientMessage impulse(std::uint64_t id, const std::string& body, double jx) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_apply_impulse()->mutable_body()->set_name(body);
-  m.mutable_apply_impulse()->mutable_impulse()->set_x(jx);
-  return m;
-}
-
-ClientMessage subscribe(std::uint64_t id, double rate_hz) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_subscribe()->set_rate_hz(rate_hz);  // every body
   return m;
 }
 

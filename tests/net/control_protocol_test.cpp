@@ -9,6 +9,7 @@
 
 #include "raw_client.h"
 #include "replies.h"
+#include "requests.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -46,10 +47,6 @@ ClientMessage pause(std::uint64_t id) {
 ClientMessage resume(std::uint64_t id) {
   return empty_request(id, [](ClientMessage& m) { m.mutable_resume(); });
 }
-ClientMessage get_stats(std::uint64_t id) {
-  return empty_request(id, [](ClientMessage& m) { m.mutable_get_stats(); });
-}
-
 ClientMessage step(std::uint64_t id, std::uint32_t ticks) {
   ClientMessage m;
   m.set_request_id(id);

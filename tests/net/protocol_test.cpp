@@ -7,6 +7,7 @@
 
 #include "raw_client.h"
 #include "replies.h"
+#include "requests.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -18,22 +19,6 @@ using tumble::v1::ServerMessage;
 const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
     {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
-
-ClientMessage force(std::uint64_t id, const std::string& body, double fx) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_apply_force()->mutable_body()->set_name(body);
-  m.mutable_apply_force()->mutable_force()->set_x(fx);
-  return m;
-}
-
-ClientMessage subscribe(std::uint64_t id, double rate_hz, std::initializer_list<const char*> bodies = {}) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_subscribe()->set_rate_hz(rate_hz);
-  for (const char* name : bodies) m.mutable_subscribe()->add_bodies()->set_name(name);
-  return m;
-}
 
 class ProtocolTest : public ::testing::Test {
  protected:

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "raw_client.h"
+#include "requests.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -30,20 +31,6 @@ std::string row_of_spheres(int count) {
   }
   scene << "]}";
   return scene.str();
-}
-
-ClientMessage list_bodies(std::uint64_t id) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_list_bodies();
-  return m;
-}
-
-ClientMessage subscribe_all(std::uint64_t id) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_subscribe()->set_rate_hz(0);  // every tick
-  return m;
 }
 
 bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
@@ -162,7 +149,7 @@ TEST(SessionLimits, AClientThatStopsReadingFramesIsDisconnected) {
 
   RawClient sleeper(server.port());
   ASSERT_TRUE(sleeper.handshake());
-  ASSERT_TRUE(sleeper.send(subscribe_all(2)));
+  ASSERT_TRUE(sleeper.send(subscribe(2, 0)));  // every tick
   // Never reads: once the socket buffers are full a frame waits, and after
   // 0.5 s of that the server lets go of the client.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);

@@ -10,6 +10,7 @@
 
 #include "raw_client.h"
 #include "replies.h"
+#include "requests.h"
 #include "test_server.h"
 #include "ws_client.h"
 
@@ -30,27 +31,6 @@ net::ServerConfig with_http(net::SessionLimits limits = {}) {
   config.serve_http = true;
   config.limits = limits;
   return config;
-}
-
-ClientMessage list_bodies(std::uint64_t id) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_list_bodies();
-  return m;
-}
-
-ClientMessage subscribe(std::uint64_t id, double rate_hz) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_subscribe()->set_rate_hz(rate_hz);
-  return m;
-}
-
-ClientMessage get_stats(std::uint64_t id) {
-  ClientMessage m;
-  m.set_request_id(id);
-  m.mutable_get_stats();
-  return m;
 }
 
 bool is_frame(const ServerMessage& m) { return m.has_pose_frame(); }
