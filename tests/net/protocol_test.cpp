@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "raw_client.h"
+#include "protocol_checks.h"
 #include "replies.h"
 #include "requests.h"
 #include "test_server.h"
@@ -104,25 +105,7 @@ TEST_F(ProtocolTest, SubscriberGetsTheCurrentStateAtOnceThenFramesAtItsRate) {
 TEST_F(ProtocolTest, AForceShowsInTheFrameOfItsAppliedTick) {
   RawClient client(server_.port());
   ASSERT_TRUE(client.handshake());
-  ASSERT_TRUE(client.send(subscribe(1, 0, {"crate"})));  // every tick
-  ASSERT_TRUE(client.read_until([](const ServerMessage& m) { return m.has_subscribed(); }));
-  ClientMessage impulse;
-  impulse.set_request_id(2);
-  impulse.mutable_apply_impulse()->mutable_body()->set_name("crate");
-  impulse.mutable_apply_impulse()->mutable_impulse()->set_y(4);  // 4 N s on 2 kg: 2 m/s
-  ASSERT_TRUE(client.send(impulse));
-  const auto ack = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
-  ASSERT_TRUE(ack && ack->has_ack());
-  const std::uint64_t applied = ack->ack().applied_tick();
-  // Frames are latest-wins, so the one of the applied tick itself may have
-  // been replaced by a later one before it was written: every frame before
-  // that tick shows the crate at rest, and every one from it on moving.
-  for (int k = 0; k < 8; ++k) {
-    const auto frame = client.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
-    ASSERT_TRUE(frame);
-    const float expected = frame->pose_frame().tick() >= applied ? 2.0f : 0.0f;
-    EXPECT_FLOAT_EQ(frame->pose_frame().linear_velocities(1), expected) << "tick " << frame->pose_frame().tick();
-  }
+  expect_impulse_shows_from_its_applied_tick(client);
 }
 
 TEST_F(ProtocolTest, UnknownBodyGetsAnErrorAndTheSessionGoesOn) {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "protocol_checks.h"
 #include "raw_client.h"
 #include "replies.h"
 #include "requests.h"
@@ -117,30 +118,7 @@ TEST_F(WebSocketTest, PoseFramesAreTheSameAsOverTcp) {
 TEST_F(WebSocketTest, AnImpulseShowsFromItsAppliedTick) {
   WsClient client(server_.http_port());
   ASSERT_TRUE(client.handshake());
-  ClientMessage watch = subscribe(1, 0);
-  watch.mutable_subscribe()->add_bodies()->set_name("crate");
-  ASSERT_TRUE(client.send(watch));
-  ASSERT_TRUE(client.read_until([](const ServerMessage& m) { return m.has_subscribed(); }));
-  ClientMessage impulse;
-  impulse.set_request_id(2);
-  impulse.mutable_apply_impulse()->mutable_body()->set_name("crate");
-  impulse.mutable_apply_impulse()->mutable_impulse()->set_y(4);  // 4 N s on 2 kg: 2 m/s
-  ASSERT_TRUE(client.send(impulse));
-  const auto ack = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
-  ASSERT_TRUE(ack && ack->has_ack());
-  const std::uint64_t applied = ack->ack().applied_tick();
-  // Frames are latest-wins, so the one of the applied tick itself may be
-  // skipped: at rest before it, 2 m/s from it on.
-  for (;;) {
-    const auto frame = client.read_until(is_frame);
-    ASSERT_TRUE(frame);
-    if (frame->pose_frame().tick() < applied) {
-      EXPECT_EQ(frame->pose_frame().linear_velocities(1), 0.0f) << "tick " << frame->pose_frame().tick();
-      continue;
-    }
-    EXPECT_FLOAT_EQ(frame->pose_frame().linear_velocities(1), 2.0f);
-    break;
-  }
+  expect_impulse_shows_from_its_applied_tick(client);
 }
 
 TEST_F(WebSocketTest, AFrameSplitOverTwoMessagesIsReadWhole) {

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstddef>
 #include <optional>
+#include <string>
 
 #include "tumble/v1/protocol.pb.h"
 #include "wire/frame.h"
@@ -17,6 +18,10 @@ class FrameClient {
   using Clock = std::chrono::steady_clock;
 
   virtual ~FrameClient() = default;
+
+  // Sends exact bytes; false when the connection is gone.
+  virtual bool send_bytes(const std::string& bytes) = 0;
+  bool send(const tumble::v1::ClientMessage& message) { return send_bytes(wire::encode_frame(message)); }
 
   // The next whole message, or nullopt on timeout, close or a bad frame.
   std::optional<tumble::v1::ServerMessage> read(std::chrono::milliseconds timeout = std::chrono::seconds(10));

@@ -26,8 +26,8 @@ class RawClient : public FrameClient {
   bool connected() const { return fd_ >= 0; }
 
   // Writes all of `bytes`; false if the connection is gone.
-  bool send_bytes(const std::string& bytes);
-  bool send(const tumble::v1::ClientMessage& message) { return send_bytes(wire::encode_frame(message)); }
+  bool send_bytes(const std::string& bytes) override;
+  using FrameClient::send;
 
   // Sends Hello and returns the server's reply (Welcome on success).
   std::optional<tumble::v1::ServerMessage> handshake(const std::string& name = "raw-test");

@@ -36,8 +36,8 @@ class WsClient : public FrameClient {
   unsigned handshake_status() const { return handshake_status_; }
 
   // Sends `bytes` as one binary message; false if the connection is gone.
-  bool send_bytes(const std::string& bytes);
-  bool send(const tumble::v1::ClientMessage& message) { return send_bytes(wire::encode_frame(message)); }
+  bool send_bytes(const std::string& bytes) override;
+  using FrameClient::send;
   // Sends `text` as one text message.
   bool send_text(const std::string& text);
 
