@@ -238,8 +238,9 @@ class World {
   void relabel_body(std::uint32_t from, std::uint32_t to);
   void update_broadphase(double dt);
   void update_contacts();
-  // Updates the contacts of `body` not yet updated in this pass.
-  void update_contacts_of(std::uint32_t body);
+  // Updates one contact: keeps or destroys it, refreshes its manifold, and
+  // lists it in active_ when it touches.
+  void update_contact(std::uint32_t slot);
   void update_manifold(Contact& contact, std::uint32_t index);
   void wake_overlapping(const Aabb& box);
 

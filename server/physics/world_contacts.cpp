@@ -189,71 +189,76 @@ void World::update_contacts() {
   woken_.clear();
   collecting_woken_ = true;
   ++contact_pass_;
-  // Only the contacts of awake bodies: a sleeping pair costs nothing (Box2D
-  // keeps such contacts in its sleeping solver sets for the same reason).
-  for (std::uint32_t i = 0; i < records_.size(); ++i) {
-    if (records_[i].awake) update_contacts_of(i);
+  // One pass over the compact links in slot order; a pair whose bodies both
+  // sleep costs a look at two flags and nothing more (its Contact is not
+  // read).
+  for (std::uint32_t slot = 0; slot < links_.size(); ++slot) {
+    const ContactLink& link = links_[slot];
+    if (!link.alive || link.updated_pass == contact_pass_) continue;
+    if (!records_[link.body_a].awake && !records_[link.body_b].awake) continue;
+    update_contact(slot);
   }
-  // Bodies woken by a touch above with an index already passed: their
-  // contacts join this step too. The list grows while it is walked.
-  for (std::size_t k = 0; k < woken_.size(); ++k) update_contacts_of(woken_[k]);
+  // Bodies woken by a touch above have contacts in slots already passed:
+  // those join this step too. The list grows while it is walked.
+  for (std::size_t k = 0; k < woken_.size(); ++k) {
+    for (ContactKey key = records_[woken_[k]].contact_head; key != kNullContactKey;) {
+      const std::uint32_t slot = key >> 1;
+      key = links_[slot].next[key & 1];  // read before the contact can be destroyed
+      if (links_[slot].updated_pass != contact_pass_) update_contact(slot);
+    }
+  }
   collecting_woken_ = false;
 }
 
-void World::update_contacts_of(std::uint32_t body) {
+void World::update_contact(std::uint32_t slot) {
   const double half_margin = 0.5 * settings_.contact_margin;
-  for (ContactKey key = records_[body].contact_head; key != kNullContactKey;) {
-    const std::uint32_t slot = key >> 1;
-    ContactLink& link = links_[slot];
-    key = link.next[key & 1];  // read before the contact can be destroyed
-    if (link.updated_pass == contact_pass_) continue;  // reached from its other body
-    link.updated_pass = contact_pass_;
-    const std::uint32_t a = link.body_a, b = link.body_b;
+  ContactLink& link = links_[slot];
+  link.updated_pass = contact_pass_;
+  const std::uint32_t a = link.body_a, b = link.body_b;
 
-    // Persistence: the pair lives while the fat boxes overlap.
-    bool overlap;
-    bool can_touch = true;
-    if (shapes_[b].type == ShapeType::plane) {
-      Vec3 normal;
-      double offset;
-      world_plane(shapes_[b], transforms_[b], &normal, &offset);
-      overlap = lowest_height(aabbs_[a], normal, offset) <= settings_.aabb_margin;
-    } else {
-      const Aabb& fat_a = (records_[a].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
-                              .fat_aabb(records_[a].proxy);
-      const Aabb& fat_b = (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
-                              .fat_aabb(records_[b].proxy);
-      overlap = fat_a.overlaps(fat_b);
-      // aabbs_[i] holds body i's shape grown by its reach this step (a
-      // body not stepped has reach 0 and its box from when it last moved).
-      // Apart by more than half the margin each, the shapes are farther
-      // apart than the manifold's reach (margin + both reaches): no points.
-      can_touch = aabbs_[a].expanded(half_margin).overlaps(aabbs_[b].expanded(half_margin));
-    }
-    if (!overlap) {
-      destroy_contact(slot);
-      continue;
-    }
-    if (!can_touch) {
-      if (link.touching) {
-        Contact& c = contacts_[slot];
-        c.manifold.point_count = 0;
-        c.cached_max_separation = -1;  // the anchors describe points that are gone
-        link.touching = false;
-      }
-      continue;
-    }
-
-    Contact& c = contacts_[slot];
-    update_manifold(c, slot);
-    ++stats_.narrowphase_pairs;
-    link.touching = c.manifold.point_count > 0;
-    if (!link.touching) continue;
-    // Touching a sleeping body wakes its island.
-    if (!records_[a].awake) wake_island(a);
-    if (!records_[b].awake) wake_island(b);
-    active_.push_back(slot);
+  // Persistence: the pair lives while the fat boxes overlap.
+  bool overlap;
+  bool can_touch = true;
+  if (shapes_[b].type == ShapeType::plane) {
+    Vec3 normal;
+    double offset;
+    world_plane(shapes_[b], transforms_[b], &normal, &offset);
+    overlap = lowest_height(aabbs_[a], normal, offset) <= settings_.aabb_margin;
+  } else {
+    const Aabb& fat_a = (records_[a].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
+                            .fat_aabb(records_[a].proxy);
+    const Aabb& fat_b = (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
+                            .fat_aabb(records_[b].proxy);
+    overlap = fat_a.overlaps(fat_b);
+    // aabbs_[i] holds body i's shape grown by its reach this step (a
+    // body not stepped has reach 0 and its box from when it last moved).
+    // Apart by more than half the margin each, the shapes are farther
+    // apart than the manifold's reach (margin + both reaches): no points.
+    can_touch = aabbs_[a].expanded(half_margin).overlaps(aabbs_[b].expanded(half_margin));
   }
+  if (!overlap) {
+    destroy_contact(slot);
+    return;
+  }
+  if (!can_touch) {
+    if (link.touching) {
+      Contact& c = contacts_[slot];
+      c.manifold.point_count = 0;
+      c.cached_max_separation = -1;  // the anchors describe points that are gone
+      link.touching = false;
+    }
+    return;
+  }
+
+  Contact& c = contacts_[slot];
+  update_manifold(c, slot);
+  ++stats_.narrowphase_pairs;
+  link.touching = c.manifold.point_count > 0;
+  if (!link.touching) return;
+  // Touching a sleeping body wakes its island.
+  if (!records_[a].awake) wake_island(a);
+  if (!records_[b].awake) wake_island(b);
+  active_.push_back(slot);
 }
 
 void World::update_manifold(Contact& c, std::uint32_t /*index*/) {
