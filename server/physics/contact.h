@@ -6,10 +6,10 @@
 //
 // Contacts sit in one array with a free list (World::contacts_); each is
 // linked into the contact lists of both its bodies through its ContactLink,
-// kept apart in a parallel array (World::links_): a step walks the links of
-// every awake body, and a link is 40 bytes where a Contact is over 700, so
-// the walk stays in cache and touches a Contact only for a pair whose boxes
-// can touch. Plain data.
+// kept apart in a parallel array (World::links_): a step scans the links of
+// every contact in slot order, and a link is 40 bytes where a Contact is
+// over 700, so the scan stays in cache and touches a Contact only for a pair
+// whose boxes can touch. Plain data.
 #pragma once
 
 #include <cstdint>
@@ -24,10 +24,10 @@ namespace tumble::physics {
 using ContactKey = std::uint32_t;
 inline constexpr ContactKey kNullContactKey = 0xffffffff;
 
-// The part of a contact that the walks over the contact graph read: the
-// pair, its place in both bodies' lists, and whether it touches.
+// The part of a contact that the passes over all contacts read: the pair,
+// its place in both bodies' lists, and whether it touches.
 struct ContactLink {
-  std::uint32_t body_a = 0;  // as in the Contact at the same index
+  std::uint32_t body_a = 0;  // dense body indices; the shape of a is not later than b's in collide()'s order
   std::uint32_t body_b = 0;
   ContactKey next[2] = {kNullContactKey, kNullContactKey};  // [side]: the next contact of that body
   ContactKey prev[2] = {kNullContactKey, kNullContactKey};
@@ -36,10 +36,8 @@ struct ContactLink {
   bool touching = false;  // the manifold has points
 };
 
+// The rest of a contact; its pair is in the ContactLink at the same index.
 struct Contact {
-  std::uint32_t body_a = 0;  // dense body indices; the shape of a is not later than b's in collide()'s order
-  std::uint32_t body_b = 0;
-
   Manifold manifold;  // current points, world frame
   // Per point, persistent: anchors in the bodies' frames (to re-evaluate a
   // reused manifold) and the accumulated impulses of the last solve.

@@ -27,7 +27,8 @@ void ContactSolver::touch(std::uint32_t body) {
   touched_.push_back(body);
 }
 
-void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const std::uint32_t> active,
+void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const ContactLink> links,
+                            std::span<const std::uint32_t> active,
                             const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
                             const ContactSolverSettings& settings) {
   for (std::uint32_t body : touched_) is_touched_[body] = 0;
@@ -73,8 +74,8 @@ void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const s
     const Manifold& m = contact.manifold;
     if (m.point_count == 0) continue;
     Constraint c;
-    c.body_a = contact.body_a;
-    c.body_b = contact.body_b;
+    c.body_a = links[index].body_a;
+    c.body_b = links[index].body_b;
     c.contact = index;
     c.first_point = static_cast<std::uint32_t>(points_.size());
     c.point_count = static_cast<std::uint32_t>(m.point_count);

@@ -83,10 +83,12 @@ struct ContactSolverBodies {
 
 class ContactSolver {
  public:
-  // Builds constraints for the contacts listed in active that have points.
+  // Builds constraints for the contacts listed in active that have points;
+  // links[k] names the bodies of contacts[k].
   // velocities holds every body's velocity at the end of the step before
   // contacts (the external change already added).
-  void prepare(std::span<const Contact> contacts, std::span<const std::uint32_t> active,
+  void prepare(std::span<const Contact> contacts, std::span<const ContactLink> links,
+               std::span<const std::uint32_t> active,
                const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
                const ContactSolverSettings& settings);
   // Runs the substeps, relax passes and restitution on velocities.

@@ -66,9 +66,6 @@ void World::create_contact(std::uint32_t a, std::uint32_t b) {
     contacts_[slot] = Contact{};
     links_[slot] = ContactLink{};
   }
-  Contact& c = contacts_[slot];
-  c.body_a = a;
-  c.body_b = b;
   ContactLink& link = links_[slot];
   link.alive = true;
   link.body_a = a;
@@ -118,10 +115,8 @@ void World::destroy_contacts_of(std::uint32_t body, bool wake_others) {
 void World::relabel_body(std::uint32_t from, std::uint32_t to) {
   for (ContactKey key = records_[from].contact_head; key != kNullContactKey;) {
     ContactLink& link = links_[key >> 1];
-    Contact& c = contacts_[key >> 1];
     const std::uint32_t side = key & 1;
     (side == 0 ? link.body_a : link.body_b) = to;
-    (side == 0 ? c.body_a : c.body_b) = to;
     key = link.next[side];
   }
   const BodyRecord& record = records_[from];
@@ -194,7 +189,7 @@ void World::update_contacts() {
   // read).
   for (std::uint32_t slot = 0; slot < links_.size(); ++slot) {
     const ContactLink& link = links_[slot];
-    if (!link.alive || link.updated_pass == contact_pass_) continue;
+    if (!link.alive) continue;
     if (!records_[link.body_a].awake && !records_[link.body_b].awake) continue;
     update_contact(slot);
   }
@@ -261,8 +256,8 @@ void World::update_contact(std::uint32_t slot) {
   active_.push_back(slot);
 }
 
-void World::update_manifold(Contact& c, std::uint32_t /*index*/) {
-  const std::uint32_t a = c.body_a, b = c.body_b;
+void World::update_manifold(Contact& c, std::uint32_t index) {
+  const std::uint32_t a = links_[index].body_a, b = links_[index].body_b;
   const Transform& ta = transforms_[a];
   const Transform& tb = transforms_[b];
   // Points up to the margin plus the distance the two can close this step.

@@ -56,7 +56,7 @@ void World::solve_contacts(double dt) {
   solver_settings.max_push_speed = settings_.max_push_speed;
   solver_settings.restitution_threshold = settings_.restitution_threshold;
   const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_, frictions_, restitutions_, external_};
-  solver_.prepare(contacts_, active_, bodies, velocities_, dt, solver_settings);
+  solver_.prepare(contacts_, links_, active_, bodies, velocities_, dt, solver_settings);
   stats_.solved_contacts = solver_.constraint_count();
   stats_.solved_points = solver_.point_count();
   if (solver_.constraint_count() == 0) return;
