@@ -1,9 +1,21 @@
 // World::step: the pipeline described in world.h.
+#include <cmath>
+
 #include "physics/integrator.h"
 #include "physics/rotation.h"
 #include "physics/world.h"
 
 namespace tumble::physics {
+namespace {
+
+// Substeps of a step of dt seconds when WorldSettings::substeps is 0 (see
+// there); the tolerance keeps 1/60 s at 4, not 5, under rounding.
+int substeps_for(double dt) {
+  const double needed = std::ceil(dt * kSubstepRate - 1e-9);
+  return needed < kMinSubsteps ? kMinSubsteps : needed > 64 ? 64 : static_cast<int>(needed);
+}
+
+}  // namespace
 
 void World::step(double dt) {
   stats_ = StepStats{};
@@ -48,10 +60,12 @@ void World::integrate_velocities(double dt) {
 
 void World::solve_contacts(double dt) {
   ContactSolverSettings solver_settings;
-  solver_settings.substeps = settings_.substeps;
+  solver_settings.substeps = settings_.substeps > 0 ? settings_.substeps : substeps_for(dt);
   solver_settings.iterations = settings_.velocity_iterations;
   solver_settings.relax_iterations = settings_.relax_iterations;
-  solver_settings.contact_hertz = settings_.contact_hertz > 0 ? settings_.contact_hertz : 0.5 / dt;
+  // An eighth of the substep rate by default (world.h).
+  solver_settings.contact_hertz =
+      settings_.contact_hertz > 0 ? settings_.contact_hertz : 0.125 * solver_settings.substeps / dt;
   solver_settings.damping_ratio = settings_.contact_damping_ratio;
   solver_settings.max_push_speed = settings_.max_push_speed;
   solver_settings.restitution_threshold = settings_.restitution_threshold;

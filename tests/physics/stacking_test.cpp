@@ -1,8 +1,11 @@
 // Stacks stand: a column of ten boxes for 30 s and a 210-box pyramid for
-// 10 s, with sleeping off so the solver holds them every step.
+// 10 s, with sleeping off so the solver holds them every step, at the
+// default number of substeps for the server's tick rate; and that default
+// follows the step rate as world.h says.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "physics/world.h"
@@ -14,6 +17,7 @@ namespace {
 using testing::box_body;
 using testing::ground_plane;
 using testing::kTick;
+using testing::state_hash;
 
 World awake_world() {
   World world;
@@ -66,6 +70,41 @@ TEST(StackingTest, PyramidOfTwoHundredTenStandsTenSeconds) {
   }
   EXPECT_LT(worst, 0.05);
   RecordProperty("max_displacement_m", std::to_string(worst));
+}
+
+// A three-box column dropped 5 cm and a tilted box landing beside it, run
+// for 1 s at step rate `rate` with `settings`; the hash of the end state.
+std::uint64_t drop_scene_hash(double rate, const WorldSettings& settings) {
+  World world;
+  world.set_settings(settings);
+  world.add_body(ground_plane());
+  for (int k = 0; k < 3; ++k) world.add_body(box_body(Vec3(0.0, 0.55 + 1.0 * k, 0.0)));
+  BodyDesc tilted = box_body(Vec3(2.0, 1.0, 0.0));
+  tilted.orientation = Quat(Eigen::AngleAxisd(0.4, Vec3(1.0, 0.0, 1.0).normalized()));
+  world.add_body(tilted);
+  for (int i = 0; i < static_cast<int>(std::lround(rate)); ++i) world.step(1.0 / rate);
+  return state_hash(world);
+}
+
+TEST(StackingTest, DefaultSubstepsFollowTheStepRate) {
+  // The default (substeps 0, contact_hertz 0) must be exactly n substeps
+  // with a push of an eighth of the substep rate: at least 240 substeps a
+  // second and at least two a step.
+  struct Case {
+    double rate;  // steps a second
+    int substeps;
+  };
+  for (const Case& c : {Case{30, 8}, Case{60, 4}, Case{120, 2}, Case{240, 2}, Case{1000, 2}}) {
+    SCOPED_TRACE(c.rate);
+    WorldSettings explicit_settings;
+    explicit_settings.substeps = c.substeps;
+    explicit_settings.contact_hertz = 0.125 * c.substeps * c.rate;
+    const std::uint64_t by_default = drop_scene_hash(c.rate, WorldSettings{});
+    EXPECT_EQ(by_default, drop_scene_hash(c.rate, explicit_settings));
+    explicit_settings.substeps = c.substeps + 1;  // the scene tells the counts apart
+    explicit_settings.contact_hertz = 0.125 * (c.substeps + 1) * c.rate;
+    EXPECT_NE(by_default, drop_scene_hash(c.rate, explicit_settings));
+  }
 }
 
 }  // namespace
