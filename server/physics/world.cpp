@@ -159,6 +159,14 @@ BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) {
   restitutions_.push_back(desc.restitution);
   refresh_solver_data(index);
   aabbs_.push_back(shape_aabb(index));
+  // An island search visits each body once, so its scratch never needs
+  // more than a slot a body: room for all of them now, growing with the
+  // body arrays, keeps waking and sleeping free of allocation.
+  if (island_stack_.capacity() < records_.size()) {
+    island_stack_.reserve(records_.capacity());
+    island_members_.reserve(records_.capacity());
+    woken_.reserve(records_.capacity());
+  }
 
   if (desc.shape.type == ShapeType::plane) {
     planes_.push_back(index);
