@@ -247,8 +247,12 @@ Vec3 World::linear_velocity(BodyId id) const {
 Vec3 World::angular_velocity(BodyId id) const {
   const std::size_t i = dense_index(id);
   if (records_[i].motion_type == MotionType::kinematic_body) return records_[i].kinematic_angular_velocity;
+  // Sleeping and static bodies have L = 0: no tensor to build (a resting
+  // world is read every tick for its frames).
+  const Vec3& l = states_[i].angular_momentum;
+  if (l.x() == 0 && l.y() == 0 && l.z() == 0) return Vec3::Zero();
   // w = R I_body^-1 R^T L (Baraff, "Angular Momentum").
-  return body_to_world_tensor(states_[i].orientation, masses_[i].inverse_inertia_body) * states_[i].angular_momentum;
+  return body_to_world_tensor(states_[i].orientation, masses_[i].inverse_inertia_body) * l;
 }
 
 const Vec3& World::linear_momentum(BodyId id) const { return states_[dense_index(id)].linear_momentum; }
