@@ -6,9 +6,12 @@
 // its overruns (GetStats) and CPU (/proc, when it runs on this machine).
 // Optionally it also sends world-changing requests at a fixed rate
 // (bench/net/command_load.h). The subscribers' threads run at a lower
-// priority (--subscriber-nice): on one machine with the server they would
-// otherwise take the cores that clients elsewhere would not. It prints one line of key=value fields
+// priority (--subscriber-nice, or --subscriber-idle): on one machine with
+// the server they would otherwise take the cores that clients elsewhere
+// would not. It prints one line of key=value fields
 // (bench/README.md), and exits 3 when any request or stream failed.
+#include <pthread.h>
+#include <sched.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
 #include <sys/types.h>
@@ -54,13 +57,21 @@ struct Options {
   pid_t server_pid = 0;
   unsigned spawners = 16;
   int subscriber_nice = 10;
+  bool subscriber_idle = false;
 };
 
-// Gives the calling thread this nice value (Linux: per thread). Best effort.
-void set_thread_nice(int nice) {
-  if (nice == 0) return;
-  if (setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice) != 0) {
+// Gives the calling thread this nice value (Linux: per thread), and with
+// idle the SCHED_IDLE policy: it then runs only on a core nothing else
+// wants. Best effort.
+void set_thread_priority(int nice, bool idle) {
+  if (nice != 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice) != 0) {
     std::perror("net_load: setpriority");
+  }
+  if (!idle) return;
+  sched_param param{};
+  param.sched_priority = 0;
+  if (const int failed = pthread_setschedparam(pthread_self(), SCHED_IDLE, &param); failed != 0) {
+    std::fprintf(stderr, "net_load: SCHED_IDLE: error %d\n", failed);
   }
 }
 
@@ -110,7 +121,7 @@ std::uint64_t framed_size(const tumble::v1::ServerMessage& message) {
 // load generator shares the machine with the server.
 Tally run_subscriber(const Options& options, unsigned index, const std::vector<std::uint32_t>& bodies,
                      std::atomic<unsigned>& ready, const Window& window) {
-  set_thread_nice(options.subscriber_nice);
+  set_thread_priority(options.subscriber_nice, options.subscriber_idle);
   tumble::client::Connection connection =
       tumble::bench::connect_or_exit(options.target, "net_load-" + std::to_string(index));
   tumble::v1::Subscribe request;
@@ -221,6 +232,9 @@ int main(int argc, char** argv) {
                  "they take only the CPU the server leaves; the latency probe keeps the process's")
       ->capture_default_str()
       ->check(CLI::Range(0, 19));
+  app.add_flag("--subscriber-idle", options.subscriber_idle,
+               "Run the subscribers' threads under SCHED_IDLE (Linux): a core only when the server and the probe "
+               "want none, the nearest one machine comes to clients on others");
   CLI11_PARSE(app, argc, argv);
 
   tumble::client::Connection controller = tumble::bench::connect_or_exit(options.target, "net_load");
