@@ -37,22 +37,24 @@ void World::step(double dt) {
 void World::integrate_velocities(double dt) {
   for (std::size_t i = 0; i < states_.size(); ++i) {
     BodyRecord& record = records_[i];
+    // Nothing to do for a body at rest: forces only reach dynamic bodies,
+    // and adding one wakes the body, so a sleeping, static or still
+    // kinematic body has none to clear (its state is not even read).
+    if (!record.awake) continue;
     BodyState& state = states_[i];
-    if (record.awake) {
-      if (record.motion_type == MotionType::dynamic_body) {
-        // v = P / M and w = I^-1 L with I^-1 = R I_body^-1 R^T at the pose
-        // of the start of the step (Baraff, "Angular Momentum").
-        const Mat3& r = transforms_[i].rotation;
-        inverse_inertia_[i] = r * masses_[i].inverse_inertia_body * r.transpose();
-        const double inverse_mass = masses_[i].inverse_mass;
-        external_[i] = {((state.force + masses_[i].mass * gravity_) * dt) * inverse_mass,
-                        inverse_inertia_[i] * (state.torque * dt)};
-        integrate_momentum(state, masses_[i], gravity_, dt);
-        velocities_[i] = {state.linear_momentum * inverse_mass, inverse_inertia_[i] * state.angular_momentum};
-      }
-      // How far any point of the body can move this step: |v| + |w| r.
-      record.reach = (velocities_[i].linear.norm() + velocities_[i].angular.norm() * record.bounding_radius) * dt;
+    if (record.motion_type == MotionType::dynamic_body) {
+      // v = P / M and w = I^-1 L with I^-1 = R I_body^-1 R^T at the pose
+      // of the start of the step (Baraff, "Angular Momentum").
+      const Mat3& r = transforms_[i].rotation;
+      inverse_inertia_[i] = r * masses_[i].inverse_inertia_body * r.transpose();
+      const double inverse_mass = masses_[i].inverse_mass;
+      external_[i] = {((state.force + masses_[i].mass * gravity_) * dt) * inverse_mass,
+                      inverse_inertia_[i] * (state.torque * dt)};
+      integrate_momentum(state, masses_[i], gravity_, dt);
+      velocities_[i] = {state.linear_momentum * inverse_mass, inverse_inertia_[i] * state.angular_momentum};
     }
+    // How far any point of the body can move this step: |v| + |w| r.
+    record.reach = (velocities_[i].linear.norm() + velocities_[i].angular.norm() * record.bounding_radius) * dt;
     state.force.setZero();
     state.torque.setZero();
   }
