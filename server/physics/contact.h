@@ -34,6 +34,9 @@ struct ContactLink {
   std::uint64_t updated_pass = 0;  // World's contact pass that last updated it
   bool alive = false;
   bool touching = false;  // the manifold has points
+  // The bodies' step boxes were apart at the last update (no points
+  // possible); while neither box changes the pair needs no look.
+  bool apart = false;
 };
 
 // The rest of a contact; its pair is in the ContactLink at the same index.

@@ -159,6 +159,7 @@ BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) {
   restitutions_.push_back(desc.restitution);
   refresh_solver_data(index);
   aabbs_.push_back(shape_aabb(index));
+  box_passes_.push_back(contact_pass_ + 1);
   // An island search visits each body once, so its scratch never needs
   // more than a slot a body: room for all of them now, growing with the
   // body arrays, keeps waking and sleeping free of allocation.
@@ -215,6 +216,7 @@ bool World::remove_body(BodyId id) {
   swap_remove(frictions_, index);
   swap_remove(restitutions_, index);
   swap_remove(aabbs_, index);
+  swap_remove(box_passes_, index);
   if (index != last) id_to_dense_[dense_to_id_[index]] = index;
   id_to_dense_[id] = kNoIndex;
   return true;
@@ -308,7 +310,7 @@ void World::set_state(BodyId id, const Vec3& position, const Quat& orientation, 
       break;
   }
   refresh_solver_data(i);
-  aabbs_[i] = shape_aabb(i);
+  set_box(i, shape_aabb(i));
 
   if (shapes_[i].type == ShapeType::plane) {
     for (std::size_t k = 0; k < records_.size(); ++k) wake_island(static_cast<std::uint32_t>(k));
@@ -402,7 +404,7 @@ void World::restore_state(BodyId id, const Vec3& position, const Quat& orientati
     }
   }
   refresh_solver_data(i);
-  aabbs_[i] = shape_aabb(i);
+  set_box(i, shape_aabb(i));
 }
 
 double World::sleep_time(BodyId id) const { return records_[dense_index(id)].sleep_time; }

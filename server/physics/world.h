@@ -241,6 +241,8 @@ class World {
 
   // Body helpers (world.cpp).
   Aabb shape_aabb(std::size_t i) const;
+  // Writes aabbs_[i], stamping box_passes_[i] when the box changed.
+  void set_box(std::size_t i, const Aabb& box);
   void refresh_solver_data(std::size_t i);
   void set_kinematic_awake(std::size_t i);
 
@@ -286,6 +288,9 @@ class World {
   std::vector<double> frictions_;
   std::vector<double> restitutions_;
   std::vector<Aabb> aabbs_;                 // box grown by reach, this step (awake bodies)
+  // The contact pass (contact_pass_) that first sees aabbs_[i] as it is:
+  // a contact updated in a later pass has seen this box (set_box).
+  std::vector<std::uint64_t> box_passes_;
 
   // Indexed by id; kNoIndex once removed. Its size is the next id to hand out.
   std::vector<std::uint32_t> id_to_dense_;

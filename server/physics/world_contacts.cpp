@@ -139,7 +139,7 @@ void World::update_broadphase(double dt) {
     // The box the body can reach this step, with half the contact margin on
     // each side so two boxes meet when the bodies come within the margin.
     const Aabb tight = shape_aabb(i).expanded(half_margin + record.reach);
-    aabbs_[i] = tight;
+    set_box(i, tight);
     if (movable_tree_.fat_aabb(record.proxy).contains(tight)) continue;
     // The fat box also leads the body by two steps of its motion, so a body
     // in steady flight is not reinserted every step.
@@ -205,11 +205,24 @@ void World::update_contacts() {
   collecting_woken_ = false;
 }
 
+void World::set_box(std::size_t i, const Aabb& box) {
+  Aabb& current = aabbs_[i];
+  if (current.min == box.min && current.max == box.max) return;
+  current = box;
+  box_passes_[i] = contact_pass_ + 1;  // update_contacts() counts the pass first
+}
+
 void World::update_contact(std::uint32_t slot) {
   const double half_margin = 0.5 * settings_.contact_margin;
   ContactLink& link = links_[slot];
-  link.updated_pass = contact_pass_;
   const std::uint32_t a = link.body_a, b = link.body_b;
+  // Still apart: neither step box has changed since this pair last found
+  // them apart, so neither the fat boxes (they move only when a step box
+  // leaves them) nor the answer can have changed. A kinematic sphere
+  // spinning among sleeping ones costs this much a neighbour.
+  const bool unchanged = box_passes_[a] <= link.updated_pass && box_passes_[b] <= link.updated_pass;
+  link.updated_pass = contact_pass_;
+  if (link.apart && unchanged) return;
 
   // Persistence: the pair lives while the fat boxes overlap.
   bool overlap;
@@ -231,6 +244,7 @@ void World::update_contact(std::uint32_t slot) {
     // apart than the manifold's reach (margin + both reaches): no points.
     can_touch = aabbs_[a].expanded(half_margin).overlaps(aabbs_[b].expanded(half_margin));
   }
+  link.apart = !can_touch;
   if (!overlap) {
     destroy_contact(slot);
     return;

@@ -11,6 +11,7 @@ namespace {
 using testing::box_body;
 using testing::ground_plane;
 using testing::kTick;
+using testing::sphere_body;
 
 TEST(MotionTypeTest, StaticBodiesNeverMove) {
   World world;
@@ -81,6 +82,56 @@ TEST(MotionTypeTest, KinematicIgnoresForcesAndCanStop) {
   EXPECT_FALSE(world.is_awake(k));
   EXPECT_EQ(world.mass(k), 0.0);
   EXPECT_EQ(world.kinetic_energy(k), 0.0);
+}
+
+// A kinematic sphere spinning in place between two sleeping spheres (their
+// pairs are kept but the step boxes stay apart, so the contact pass looks
+// at them only when a box changes): the sleepers stay asleep and untouched
+// for seconds, and the moment the spinner is sent sideways it meets the
+// one in its way.
+TEST(MotionTypeTest, SpinningKinematicLeavesSleepersAloneUntilItMoves) {
+  World world;
+  world.add_body(ground_plane());
+  BodyDesc spinner_desc = sphere_body(Vec3(0.0, 0.2, 0.0), 0.2);
+  spinner_desc.motion_type = MotionType::kinematic_body;
+  spinner_desc.angular_velocity = Vec3(0.0, 1.0, 0.0);
+  const BodyId spinner = world.add_body(spinner_desc);
+  const BodyId left = world.add_body(sphere_body(Vec3(-0.5, 0.2, 0.0), 0.2));
+  const BodyId right = world.add_body(sphere_body(Vec3(0.5, 0.2, 0.0), 0.2));
+  for (int i = 0; i < 3 * 240; ++i) world.step(kTick);
+  ASSERT_FALSE(world.is_awake(left));
+  ASSERT_FALSE(world.is_awake(right));
+  const Vec3 right_at_rest = world.position(right);
+  for (int i = 0; i < 2 * 240; ++i) world.step(kTick);
+  EXPECT_FALSE(world.is_awake(right));
+  EXPECT_EQ(world.position(right), right_at_rest);
+
+  // 1 m/s towards the right sphere: the gap of 0.1 m closes in 0.1 s.
+  world.set_state(spinner, world.position(spinner), world.orientation(spinner), Vec3(1.0, 0.0, 0.0),
+                  Vec3(0.0, 1.0, 0.0));
+  for (int i = 0; i < 60; ++i) world.step(kTick);  // 0.25 s
+  EXPECT_TRUE(world.is_awake(right));
+  EXPECT_GT(world.position(right).x(), right_at_rest.x() + 0.1);
+  EXPECT_NEAR(world.position(left).x(), -0.5, 0.01);  // left behind (set_state woke it: it was near)
+  EXPECT_GE(world.position(right).x() - world.position(spinner).x(), 0.4 - 0.01);  // not through it
+}
+
+// A kinematic box spinning in place: its corners sweep past the sphere
+// beside it, so its step box changes every step and the pair is looked at
+// every step; the sphere is struck and knocked away.
+TEST(MotionTypeTest, SpinningKinematicBoxStrikesANeighbour) {
+  World world;
+  world.add_body(ground_plane());
+  BodyDesc blade = box_body(Vec3(0.0, 0.3, 0.0), 0.3);
+  blade.motion_type = MotionType::kinematic_body;
+  const BodyId spinner = world.add_body(blade);
+  const BodyId ball = world.add_body(sphere_body(Vec3(0.55, 0.2, 0.0), 0.2));
+  for (int i = 0; i < 3 * 240; ++i) world.step(kTick);
+  ASSERT_FALSE(world.is_awake(ball));
+  // Face to face the gap is 0.05 m; a corner reaches 0.42 m from the axis.
+  world.set_state(spinner, world.position(spinner), world.orientation(spinner), Vec3::Zero(), Vec3(0.0, 2.0, 0.0));
+  for (int i = 0; i < 240; ++i) world.step(kTick);
+  EXPECT_GT((world.position(ball) - Vec3(0.55, 0.2, 0.0)).norm(), 0.1);
 }
 
 }  // namespace
