@@ -147,6 +147,11 @@ void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const C
   }
 }
 
+void ContactSolver::reserve(std::size_t constraints) {
+  constraints_.reserve(constraints);
+  points_.reserve(kMaxManifoldPoints * constraints);
+}
+
 void ContactSolver::warm_start(std::span<SolverVelocity> velocities) const {
   for (const Constraint& c : constraints_) {
     SolverVelocity& a = velocities[c.body_a];

@@ -91,6 +91,10 @@ class ContactSolver {
                std::span<const std::uint32_t> active,
                const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
                const ContactSolverSettings& settings);
+  // Room for this many constraints and four points each, reserved (not
+  // written) ahead of need, so a step whose contacts multiply does not copy
+  // the rows it has built so far.
+  void reserve(std::size_t constraints);
   // Runs the substeps, relax passes and restitution on velocities.
   void solve(std::span<SolverVelocity> velocities);
   void store_impulses(std::span<Contact> contacts) const;
