@@ -54,6 +54,9 @@ const Vec3& World::gravity() const { return gravity_; }
 
 void World::set_settings(const WorldSettings& settings) {
   settings_ = settings;
+  // Whether two step boxes are apart depends on the contact margin: every
+  // pair looks again at its next update.
+  for (ContactLink& link : links_) link.apart = false;
   if (!settings_.sleep_enabled) {
     for (std::size_t i = 0; i < records_.size(); ++i) wake_island(static_cast<std::uint32_t>(i));
   }
