@@ -179,7 +179,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
       ->check(check_timeout);
   app.add_flag("--json", json, "Print one JSON object per line");
 
-  CLI::App* bodies = app.add_subcommand("bodies", "List every body: id, name, shape, mass, position, speed");
+  CLI::App* bodies = app.add_subcommand("bodies", "List every body: id, name, shape, mass, position, speed, asleep");
 
   CLI::App* force = app.add_subcommand("force", "Apply a force (N, world frame) to a body");
   BodyArguments force_args;

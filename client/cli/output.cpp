@@ -250,20 +250,21 @@ Json world_event_json(const tumble::v1::WorldEvent& event) {
 }
 
 std::string format_body_table(const tumble::v1::BodyList& list) {
-  constexpr std::size_t kColumns = 6;
+  constexpr std::size_t kColumns = 7;
   using Row = std::array<std::string, kColumns>;
   // Numbers line up on the right, words on the left.
-  constexpr std::array<bool, kColumns> kRightAligned = {true, false, false, true, false, true};
+  constexpr std::array<bool, kColumns> kRightAligned = {true, false, false, true, false, true, false};
 
   std::vector<Row> rows;
-  rows.push_back({"ID", "NAME", "SHAPE", "MASS (kg)", "POSITION (m)", "SPEED (m/s)"});
+  rows.push_back({"ID", "NAME", "SHAPE", "MASS (kg)", "POSITION (m)", "SPEED (m/s)", "ASLEEP"});
   for (const auto& body : list.bodies()) {
     const auto& p = body.position();
     const auto& v = body.linear_velocity();
     const double speed = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
     const std::string shape = shape_name(body.shape());
     rows.push_back({std::to_string(body.id()), display_name(body.id(), body.name()), shape.empty() ? "-" : shape,
-                    fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3)});
+                    fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3),
+                    body.asleep() ? "yes" : "no"});
   }
 
   return aligned_table(rows, kRightAligned);
@@ -282,6 +283,7 @@ Json body_list_json(const tumble::v1::BodyList& list) {
     entry["orientation"] = json_array(body.orientation());
     entry["linear_velocity"] = json_array(body.linear_velocity());
     entry["angular_velocity"] = json_array(body.angular_velocity());
+    entry["asleep"] = body.asleep();
     bodies.push_back(std::move(entry));
   }
   Json out = Json::object();

@@ -52,6 +52,7 @@ tumble::v1::BodyList two_body_list() {
   ball->mutable_shape()->mutable_sphere()->set_radius(0.1);
   ball->set_mass(1);
   ball->mutable_orientation()->set_w(1);
+  ball->set_asleep(true);
   return list;
 }
 
@@ -128,7 +129,9 @@ TEST(BodyListJson, EveryField) {
   EXPECT_EQ(crate["orientation"], nlohmann::json::array({0.5, 0.25, -0.25, 0.75}));
   EXPECT_EQ(crate["linear_velocity"], nlohmann::json::array({3.0, 4.0, 0.0}));
   EXPECT_EQ(crate["angular_velocity"], nlohmann::json::array({0.0, 0.0, -2.0}));
+  EXPECT_EQ(crate["asleep"], false);
   EXPECT_EQ(json["bodies"][1]["shape"], "sphere");
+  EXPECT_EQ(json["bodies"][1]["asleep"], true);
 
   tumble::v1::BodyList shapeless;
   shapeless.add_bodies()->set_id(1);
@@ -144,14 +147,14 @@ TEST(BodyTable, AlignedColumnsWithTheNumbers) {
   std::getline(lines, ball);
   EXPECT_FALSE(std::getline(lines, extra));
 
-  EXPECT_EQ(header, "ID  NAME   SHAPE   MASS (kg)  POSITION (m)           SPEED (m/s)");
-  EXPECT_EQ(crate, " 4  crate  box        12.500  (0.000, 1.250, 0.000)        5.000");
-  EXPECT_EQ(ball, "10  ball   sphere      1.000  (0.000, 0.000, 0.000)        0.000");
+  EXPECT_EQ(header, "ID  NAME   SHAPE   MASS (kg)  POSITION (m)           SPEED (m/s)  ASLEEP");
+  EXPECT_EQ(crate, " 4  crate  box        12.500  (0.000, 1.250, 0.000)        5.000  no");
+  EXPECT_EQ(ball, "10  ball   sphere      1.000  (0.000, 0.000, 0.000)        0.000  yes");
 }
 
 TEST(BodyTable, EmptyWorldIsJustTheHeader) {
   tumble::v1::BodyList empty;
-  EXPECT_EQ(format_body_table(empty), "ID  NAME  SHAPE  MASS (kg)  POSITION (m)  SPEED (m/s)\n");
+  EXPECT_EQ(format_body_table(empty), "ID  NAME  SHAPE  MASS (kg)  POSITION (m)  SPEED (m/s)  ASLEEP\n");
 }
 
 TEST(Ack, TextAndJson) {

@@ -76,6 +76,7 @@ TEST_F(ControlCliTest, SetMovesTheBodyAndKeepsWhatIsNotGiven) {
   json crate = *find_body(run_json({"bodies"}), "crate");
   EXPECT_EQ(crate["position"], json::array({1.0, 2.0, 3.0}));
   EXPECT_EQ(crate["linear_velocity"], json::array({0.5, 0.0, 0.0}));
+  EXPECT_EQ(crate["asleep"], false);  // moving
 
   run_json({"set", "crate", "--orientation", "0", "0", "1", "0"});  // half a turn about y
   crate = *find_body(run_json({"bodies"}), "crate");
