@@ -88,6 +88,13 @@ Aabb World::shape_aabb(std::size_t i) const {
   return Aabb{t.position, t.position};
 }
 
+void World::set_box(std::size_t i, const Aabb& box) {
+  Aabb& current = aabbs_[i];
+  if (current.min == box.min && current.max == box.max) return;
+  current = box;
+  box_passes_[i] = contact_pass_ + 1;  // update_contacts() counts the pass first
+}
+
 void World::refresh_solver_data(std::size_t i) {
   const BodyState& state = states_[i];
   transforms_[i] = Transform{state.position, state.orientation.toRotationMatrix()};

@@ -66,7 +66,7 @@ struct WorldSettings {
   // each substep makes `velocity_iterations` soft passes over the contact
   // rows and `relax_iterations` rigid ones. substeps = 0 (the default) takes
   // enough that a substep is at most 1/kSubstepRate s, and at least
-  // kMinSubsteps: 4 at 60 steps per second (Box2D v3's default), 2 at 120
+  // kMinSubsteps (at most 64): 4 at 60 steps per second (Box2D v3's default), 2 at 120
   // and at 240. A faster step rate then costs little more solver work a
   // second while the narrowphase runs more often. Measured on a 210-box
   // pyramid over 10 s (largest displacement) and the top of a ten-box

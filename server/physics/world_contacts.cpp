@@ -205,13 +205,6 @@ void World::update_contacts() {
   collecting_woken_ = false;
 }
 
-void World::set_box(std::size_t i, const Aabb& box) {
-  Aabb& current = aabbs_[i];
-  if (current.min == box.min && current.max == box.max) return;
-  current = box;
-  box_passes_[i] = contact_pass_ + 1;  // update_contacts() counts the pass first
-}
-
 void World::update_contact(std::uint32_t slot) {
   const double half_margin = 0.5 * settings_.contact_margin;
   ContactLink& link = links_[slot];

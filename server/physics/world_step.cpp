@@ -8,11 +8,16 @@
 namespace tumble::physics {
 namespace {
 
+// At most this many substeps by default, however long the step (a world
+// stepped once a second would otherwise take 240).
+constexpr int kMaxDefaultSubsteps = 64;
+
 // Substeps of a step of dt seconds when WorldSettings::substeps is 0 (see
 // there); the tolerance keeps 1/60 s at 4, not 5, under rounding.
 int substeps_for(double dt) {
   const double needed = std::ceil(dt * kSubstepRate - 1e-9);
-  return needed < kMinSubsteps ? kMinSubsteps : needed > 64 ? 64 : static_cast<int>(needed);
+  if (needed < kMinSubsteps) return kMinSubsteps;
+  return needed > kMaxDefaultSubsteps ? kMaxDefaultSubsteps : static_cast<int>(needed);
 }
 
 }  // namespace
