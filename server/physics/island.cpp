@@ -20,9 +20,11 @@ void World::update_sleep(double dt) {
   const double time_to_sleep = settings_.time_to_sleep;
   bool any_ready = false;
   for (std::size_t i = 0; i < records_.size(); ++i) {
+    // Only awake bodies are visited below, so only theirs need clearing.
+    if (!awake_[i]) continue;
     BodyRecord& record = records_[i];
     record.visited = false;
-    if (!record.awake || record.motion_type != MotionType::dynamic_body) continue;
+    if (record.motion_type != MotionType::dynamic_body) continue;
     const SolverVelocity& v = velocities_[i];
     const double speed = std::max(v.linear.norm(), v.angular.norm() * record.bounding_radius);
     if (speed < settings_.sleep_speed) {
@@ -37,8 +39,9 @@ void World::update_sleep(double dt) {
   // Depth-first search over touching contacts from each body ready to
   // sleep; bodies not ready keep their island awake.
   for (std::uint32_t seed = 0; seed < records_.size(); ++seed) {
+    if (!awake_[seed]) continue;
     const BodyRecord& seed_record = records_[seed];
-    if (seed_record.visited || !seed_record.awake || seed_record.motion_type != MotionType::dynamic_body ||
+    if (seed_record.visited || seed_record.motion_type != MotionType::dynamic_body ||
         seed_record.sleep_time < time_to_sleep) {
       continue;
     }
@@ -62,10 +65,10 @@ void World::update_sleep(double dt) {
         const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
         BodyRecord& other_record = records_[other];
         if (other_record.motion_type == MotionType::kinematic_body) {
-          if (other_record.awake) can_sleep = false;  // carried by a moving body
+          if (awake_[other]) can_sleep = false;  // carried by a moving body
           continue;
         }
-        if (other_record.motion_type != MotionType::dynamic_body || other_record.visited || !other_record.awake) {
+        if (other_record.motion_type != MotionType::dynamic_body || other_record.visited || !awake_[other]) {
           continue;
         }
         other_record.visited = true;
@@ -79,7 +82,7 @@ void World::update_sleep(double dt) {
 
 void World::put_to_sleep(std::uint32_t body) {
   BodyRecord& record = records_[body];
-  record.awake = false;
+  awake_[body] = 0;
   record.reach = 0;
   states_[body].linear_momentum.setZero();
   states_[body].angular_momentum.setZero();
@@ -87,11 +90,11 @@ void World::put_to_sleep(std::uint32_t body) {
 }
 
 void World::wake_island(std::uint32_t body) {
-  if (records_[body].motion_type != MotionType::dynamic_body || records_[body].awake) return;
+  if (records_[body].motion_type != MotionType::dynamic_body || awake_[body]) return;
   // Flood over touching contacts to the sleeping dynamic bodies.
   island_stack_.clear();
   island_stack_.push_back(body);
-  records_[body].awake = true;
+  awake_[body] = 1;
   if (collecting_woken_) woken_.push_back(body);
   while (!island_stack_.empty()) {
     const std::uint32_t i = island_stack_.back();
@@ -108,8 +111,8 @@ void World::wake_island(std::uint32_t body) {
       if (!link.touching) continue;
       const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
       BodyRecord& other_record = records_[other];
-      if (other_record.motion_type != MotionType::dynamic_body || other_record.awake) continue;
-      other_record.awake = true;
+      if (other_record.motion_type != MotionType::dynamic_body || awake_[other]) continue;
+      awake_[other] = 1;
       island_stack_.push_back(other);
       if (collecting_woken_) woken_.push_back(other);
     }

@@ -109,8 +109,8 @@ void World::refresh_solver_data(std::size_t i) {
 
 void World::set_kinematic_awake(std::size_t i) {
   BodyRecord& record = records_[i];
-  record.awake = !record.kinematic_linear_velocity.isZero(0) || !record.kinematic_angular_velocity.isZero(0);
-  if (!record.awake) record.reach = 0;
+  awake_[i] = !record.kinematic_linear_velocity.isZero(0) || !record.kinematic_angular_velocity.isZero(0);
+  if (!awake_[i]) record.reach = 0;
 }
 
 BodyId World::add_body(const BodyDesc& desc) {
@@ -163,8 +163,8 @@ BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) {
     record.kinematic_linear_velocity = desc.linear_velocity;
     record.kinematic_angular_velocity = desc.angular_velocity;
   }
-  record.awake = dynamic;
   records_.push_back(record);
+  awake_.push_back(dynamic ? 1 : 0);
   if (motion == MotionType::kinematic_body) set_kinematic_awake(index);
 
   transforms_.emplace_back();
@@ -236,6 +236,7 @@ bool World::remove_body(BodyId id) {
   swap_remove(shapes_, index);
   swap_remove(dense_to_id_, index);
   swap_remove(records_, index);
+  swap_remove(awake_, index);
   swap_remove(transforms_, index);
   swap_remove(velocities_, index);
   swap_remove(external_, index);
@@ -439,19 +440,17 @@ double World::sleep_time(BodyId id) const { return records_[dense_index(id)].sle
 
 void World::wake(BodyId id) { wake_island(static_cast<std::uint32_t>(dense_index(id))); }
 
-bool World::is_awake(BodyId id) const { return records_[dense_index(id)].awake; }
+bool World::is_awake(BodyId id) const { return awake_[dense_index(id)] != 0; }
 
 std::size_t World::awake_body_count() const {
   std::size_t n = 0;
-  for (const BodyRecord& record : records_) n += record.awake ? 1 : 0;
+  for (const std::uint8_t awake : awake_) n += awake;
   return n;
 }
 
 std::size_t World::sleeping_body_count() const {
   std::size_t n = 0;
-  for (const BodyRecord& record : records_) {
-    n += record.motion_type == MotionType::dynamic_body && !record.awake ? 1 : 0;
-  }
+  for (std::size_t i = 0; i < records_.size(); ++i) n += is_dynamic(i) && !awake_[i] ? 1u : 0u;
   return n;
 }
 

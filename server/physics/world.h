@@ -223,12 +223,11 @@ class World {
   // Collision and sleep bookkeeping of one body.
   struct BodyRecord {
     MotionType motion_type = MotionType::dynamic_body;
-    bool awake = true;
     bool moved = false;    // fat box replaced in this step's broadphase
     bool visited = false;  // reached by this step's island search
     double sleep_time = 0;       // s spent slower than sleep_speed
     double bounding_radius = 0;  // m, of the shape about the centre of mass
-    double reach = 0;            // m the body can travel this step (0 unless awake)
+    double reach = 0;            // m the body can travel this step (0 unless awake_)
     Vec3 kinematic_linear_velocity = Vec3::Zero();
     Vec3 kinematic_angular_velocity = Vec3::Zero();
     std::int32_t proxy = DynamicTree::kNull;  // leaf in static_tree_ or movable_tree_
@@ -288,6 +287,11 @@ class World {
   std::vector<double> frictions_;
   std::vector<double> restitutions_;
   std::vector<Aabb> aabbs_;                 // box grown by reach, this step (awake bodies)
+  // 1 while the body is stepped: dynamic and not asleep, or kinematic and
+  // moving. Apart from the records so that the passes over every body that
+  // skip those at rest read a byte a body, not a record (a world of 10,000
+  // mostly sleeping bodies: 10 kB a pass instead of 1.1 MB).
+  std::vector<std::uint8_t> awake_;
   // The contact pass (contact_pass_) that first sees aabbs_[i] as it is:
   // a contact updated in a later pass has seen this box (set_box).
   std::vector<std::uint64_t> box_passes_;

@@ -134,8 +134,9 @@ void World::update_broadphase(double dt) {
   moved_.clear();
   const double half_margin = 0.5 * settings_.contact_margin;
   for (std::uint32_t i = 0; i < records_.size(); ++i) {
+    if (!awake_[i]) continue;
     BodyRecord& record = records_[i];
-    if (!record.awake || record.proxy == DynamicTree::kNull) continue;
+    if (record.proxy == DynamicTree::kNull) continue;
     // The box the body can reach this step, with half the contact margin on
     // each side so two boxes meet when the bodies come within the margin.
     const Aabb tight = shape_aabb(i).expanded(half_margin + record.reach);
@@ -171,8 +172,9 @@ void World::update_broadphase(double dt) {
     double offset;
     world_plane(shapes_[p], transforms_[p], &normal, &offset);
     for (std::uint32_t i = 0; i < records_.size(); ++i) {
+      if (!awake_[i]) continue;
       const BodyRecord& record = records_[i];
-      if (!record.awake || record.proxy == DynamicTree::kNull || !is_dynamic(i)) continue;
+      if (record.proxy == DynamicTree::kNull || !is_dynamic(i)) continue;
       if (lowest_height(aabbs_[i], normal, offset) > 0 || has_contact(i, p)) continue;
       create_contact(i, p);
     }
@@ -190,7 +192,7 @@ void World::update_contacts() {
   for (std::uint32_t slot = 0; slot < links_.size(); ++slot) {
     const ContactLink& link = links_[slot];
     if (!link.alive) continue;
-    if (!records_[link.body_a].awake && !records_[link.body_b].awake) continue;
+    if (!awake_[link.body_a] && !awake_[link.body_b]) continue;
     update_contact(slot);
   }
   // Bodies woken by a touch above have contacts in slots already passed:
@@ -258,8 +260,8 @@ void World::update_contact(std::uint32_t slot) {
   link.touching = c.manifold.point_count > 0;
   if (!link.touching) return;
   // Touching a sleeping body wakes its island.
-  if (!records_[a].awake) wake_island(a);
-  if (!records_[b].awake) wake_island(b);
+  if (!awake_[a]) wake_island(a);
+  if (!awake_[b]) wake_island(b);
   active_.push_back(slot);
 }
 

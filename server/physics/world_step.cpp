@@ -41,11 +41,11 @@ void World::step(double dt) {
 
 void World::integrate_velocities(double dt) {
   for (std::size_t i = 0; i < states_.size(); ++i) {
-    BodyRecord& record = records_[i];
     // Nothing to do for a body at rest: forces only reach dynamic bodies,
     // and adding one wakes the body, so a sleeping, static or still
     // kinematic body has none to clear (its state is not even read).
-    if (!record.awake) continue;
+    if (!awake_[i]) continue;
+    BodyRecord& record = records_[i];
     BodyState& state = states_[i];
     if (record.motion_type == MotionType::dynamic_body) {
       // v = P / M and w = I^-1 L with I^-1 = R I_body^-1 R^T at the pose
@@ -99,7 +99,7 @@ void World::integrate_positions(double dt) {
   // the substeps and never touches the momenta.
   if (solver_.constraint_count() > 0) {
     for (std::uint32_t i : solver_.touched_bodies()) {
-      if (!is_dynamic(i) || !records_[i].awake) continue;
+      if (!is_dynamic(i) || !awake_[i]) continue;
       const SolverVelocity pseudo = solver_.pseudo_velocity(i, velocities_[i]);
       BodyState& state = states_[i];
       state.position += pseudo.linear * dt;
@@ -107,8 +107,8 @@ void World::integrate_positions(double dt) {
     }
   }
   for (std::size_t i = 0; i < states_.size(); ++i) {
+    if (!awake_[i]) continue;
     const BodyRecord& record = records_[i];
-    if (!record.awake) continue;
     BodyState& state = states_[i];
     if (record.motion_type == MotionType::dynamic_body) {
       integrate_pose(state, masses_[i], dt);
