@@ -166,6 +166,7 @@ void Publisher::publish_latest() {
 
 void Publisher::deliver(const sim::WorldEvent& event) {
   const tumble::v1::WorldEventKind kind = wire_kind(event.kind);
+  bool filters_changed = false;
   for (Stream& stream : streams_) {
     const bool names_body =
         !stream.all_bodies && std::binary_search(stream.bodies.begin(), stream.bodies.end(), event.body);
@@ -184,8 +185,10 @@ void Publisher::deliver(const sim::WorldEvent& event) {
     }
     if (names_body && kind == tumble::v1::WORLD_EVENT_BODY_REMOVED) {
       stream.bodies.erase(std::lower_bound(stream.bodies.begin(), stream.bodies.end(), event.body));
+      filters_changed = true;
     }
   }
+  if (filters_changed) update_sim_interest();
 }
 
 void Publisher::publish(const sim::Snapshot& snapshot) {
@@ -198,6 +201,13 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
                            snapshot.tick - stream.last_tick > stream.period_ticks)) ||
                          (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
     if (!regular && stream.awaiting_first.empty()) continue;
+    if (!snapshot.covers(stream.all_bodies, stream.bodies)) {
+      // Taken before the sim knew of this stream, or a snapshot of the
+      // stream's tick was superseded in the handoff: the next one holds
+      // every body, and the frame is made up from it.
+      sim_.request_snapshot();
+      continue;
+    }
     send_frame(stream, snapshot, regular ? stream.members : stream.awaiting_first);
     stream.awaiting_first.clear();
     if (regular) stream.last_tick = snapshot.tick;
@@ -275,15 +285,31 @@ std::shared_ptr<const std::string> Publisher::encode(const Stream& stream, const
 }
 
 void Publisher::update_sim_interest() {
-  std::vector<std::uint32_t> periods;
+  // One interest a period: every body when a stream at that period wants
+  // all, else the union of the streams' filters.
+  std::vector<sim::PublishInterest> interest;
   bool sleep_events = false;
   for (const Stream& stream : streams_) {
-    periods.push_back(stream.period_ticks);
     sleep_events = sleep_events || (stream.event_kinds & kSleepEventBits) != 0;
+    auto it = std::find_if(interest.begin(), interest.end(),
+                           [&](const sim::PublishInterest& i) { return i.period_ticks == stream.period_ticks; });
+    if (it == interest.end()) {
+      interest.push_back({stream.period_ticks, stream.all_bodies, stream.bodies});
+      continue;
+    }
+    if (it->all_bodies) continue;
+    if (stream.all_bodies) {
+      it->all_bodies = true;
+      it->bodies.clear();
+      continue;
+    }
+    std::vector<physics::BodyId> both;
+    both.reserve(it->bodies.size() + stream.bodies.size());
+    std::set_union(it->bodies.begin(), it->bodies.end(), stream.bodies.begin(), stream.bodies.end(),
+                   std::back_inserter(both));
+    it->bodies = std::move(both);
   }
-  std::sort(periods.begin(), periods.end());
-  periods.erase(std::unique(periods.begin(), periods.end()), periods.end());
-  sim_.set_publish_periods(std::move(periods));
+  sim_.set_publish_interest(std::move(interest));
   sim_.set_sleep_events_wanted(sleep_events);
 }
 

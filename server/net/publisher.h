@@ -10,7 +10,12 @@
 // keeps only the latest one and posts the publishing to the I/O thread. A
 // new subscriber asks the sim for a snapshot and gets the current state from
 // it at once, whatever its stream's period, paused or not. An out-of-band
-// snapshot (an edit while paused) goes to every stream.
+// snapshot (an edit while paused) goes to every stream. The sim copies
+// into a snapshot only the bodies the streams due at its tick read (their
+// periods and filters, update_sim_interest()); a stream due at a snapshot
+// that does not hold its bodies (made before the sim knew of the stream,
+// or after the stream's own snapshot was superseded) asks for one of every
+// body and is served from that.
 //
 // Events come over with offer_events(), which queues them all (they are not
 // latest-wins); each is sent as a WorldEvent to the members of the streams
@@ -108,7 +113,8 @@ class Publisher {
   std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
   // The stream's bodies on the quantization grids, sorted by id.
   std::vector<wire::QuantizedBody> quantize(const Stream& stream, const sim::Snapshot& snapshot) const;
-  // Tells the sim the periods it must publish at and whether anyone wants sleep events.
+  // Tells the sim which bodies it must publish at which periods, and whether
+  // anyone wants sleep events.
   void update_sim_interest();
   // Sorts streams_ cheapest first: a snapshot is published in that order, so
   // a frame of a few bodies is not written after a fan-out of thousands to

@@ -234,10 +234,10 @@ void Simulation::submit(Command command) {
 
 void Simulation::request_snapshot() { snapshot_requested_.store(true, std::memory_order_relaxed); }
 
-void Simulation::set_publish_periods(std::vector<std::uint32_t> periods) {
-  std::lock_guard lock(periods_mutex_);
-  publish_periods_ = std::move(periods);
-  periods_changed_ = true;
+void Simulation::set_publish_interest(std::vector<PublishInterest> interest) {
+  std::lock_guard lock(interest_mutex_);
+  published_interest_ = std::move(interest);
+  interest_changed_ = true;
 }
 
 void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.store(wanted, std::memory_order_relaxed); }
@@ -313,7 +313,7 @@ void Simulation::run_tick() {
     if (edited_ && tracking_sleep_) track_sleep(next_tick_);
     flush_events();
     const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
-    if (edited_ || requested) publish(edited_);
+    if (edited_ || requested) publish(true, edited_);
     edited_ = false;
   }
   timing_.record_clock(Clock::now(), time_of(next_tick_));
@@ -340,7 +340,7 @@ void Simulation::advance() {
     step_command_ = Command{};
   }
   flush_events();
-  if (publish_due()) publish(false);
+  if (const Due due = publish_due(); due != Due::nothing) publish(due == Due::every_body, false);
   edited_ = false;
 }
 
@@ -373,33 +373,58 @@ void Simulation::flush_events() {
   events_.clear();
 }
 
-bool Simulation::publish_due() {
+Simulation::Due Simulation::publish_due() {
   {
-    std::lock_guard lock(periods_mutex_);
-    if (periods_changed_) {
-      periods_ = publish_periods_;
-      periods_changed_ = false;
+    std::lock_guard lock(interest_mutex_);
+    if (interest_changed_) {
+      interest_ = std::move(published_interest_);
+      interest_changed_ = false;
     }
   }
-  if (snapshot_requested_.exchange(false, std::memory_order_relaxed)) return true;
-  return std::any_of(periods_.begin(), periods_.end(),
-                     [this](std::uint32_t p) { return p > 0 && next_tick_ % p == 0; });
+  if (snapshot_requested_.exchange(false, std::memory_order_relaxed)) return Due::every_body;
+  wanted_.clear();
+  std::size_t due = 0;
+  for (const PublishInterest& interest : interest_) {
+    if (interest.period_ticks == 0 || next_tick_ % interest.period_ticks != 0) continue;
+    if (interest.all_bodies) return Due::every_body;
+    wanted_.insert(wanted_.end(), interest.bodies.begin(), interest.bodies.end());
+    ++due;
+  }
+  if (due == 0) return Due::nothing;
+  if (due > 1) {
+    std::sort(wanted_.begin(), wanted_.end());
+    wanted_.erase(std::unique(wanted_.begin(), wanted_.end()), wanted_.end());
+  }
+  return Due::wanted_bodies;
 }
 
-void Simulation::publish(bool out_of_band) {
+void Simulation::publish(bool every_body, bool out_of_band) {
   if (!listener_) return;
   auto snapshot = std::make_shared<Snapshot>();
   snapshot->tick = next_tick_;
   snapshot->sim_time = time_of(next_tick_);
   snapshot->out_of_band = out_of_band;
-  const std::size_t n = world_.body_count();
+  snapshot->all_bodies = every_body;
+  std::size_t n = world_.body_count();
+  if (!every_body) {
+    snapshot->wanted = wanted_;
+    n = static_cast<std::size_t>(
+        std::count_if(wanted_.begin(), wanted_.end(), [this](physics::BodyId id) { return world_.contains(id); }));
+  }
   snapshot->ids.resize(n);
   snapshot->positions.resize(3 * n);
   snapshot->orientations.resize(4 * n);
   snapshot->linear_velocities.resize(3 * n);
   snapshot->angular_velocities.resize(3 * n);
+  std::size_t next_wanted = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
+    physics::BodyId id;
+    if (every_body) {
+      id = world_.body_id_at(i);
+    } else {
+      while (!world_.contains(wanted_[next_wanted])) ++next_wanted;  // removed since the streams asked
+      id = wanted_[next_wanted++];
+    }
     snapshot->ids[i] = id;
     const physics::Vec3& x = world_.position(id);
     const physics::Quat& q = world_.orientation(id);

@@ -5,7 +5,8 @@
 // Tick n ends at the absolute deadline t0 + n * dt on the steady clock, so
 // the rate does not drift. At each tick the sim thread drains the command
 // queue and applies the commands, steps the world once, and, when a
-// subscription is due, publishes a Snapshot. A tick that finishes late is
+// subscription is due, publishes a Snapshot of the bodies the due
+// subscriptions read (sim/publish_interest.h). A tick that finishes late is
 // followed at once by the next; a sim that falls more than
 // max_catch_up_ticks behind skips the missed ticks and counts them as
 // overruns. The sim thread never waits on anything but its clock.
@@ -19,7 +20,7 @@
 // The tick and sim time only ever grow: Reset puts the bodies back but not
 // the clock, and SetTickRate changes dt from the next tick on.
 //
-// Thread: submit(), resolve(), request_snapshot(), set_publish_periods(),
+// Thread: submit(), resolve(), request_snapshot(), set_publish_interest(),
 // set_sleep_events_wanted() and the read-only accessors may be called from
 // any thread. run_tick() is for tests and replays that step without the
 // clock, and only while not started. The listeners are set before start().
@@ -42,6 +43,7 @@
 #include "sim/body_loads.h"
 #include "sim/command.h"
 #include "sim/journal.h"
+#include "sim/publish_interest.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
 #include "sim/tick_timing.h"
@@ -118,13 +120,16 @@ class Simulation {
   // The id of the body `ref` names now, or kInvalidBodyId.
   physics::BodyId resolve(const tumble::v1::BodyRef& ref) const;
 
-  // Makes the next pass of the loop publish a snapshot whatever the periods
-  // are, paused or not.
+  // Makes the next pass of the loop publish a snapshot of every body,
+  // whatever the interest is, paused or not.
   void request_snapshot();
 
-  // The periods, in ticks, of the active subscriptions: a snapshot is
-  // published after every tick that one of them divides.
-  void set_publish_periods(std::vector<std::uint32_t> periods);
+  // What the active subscriptions read: a snapshot is published after
+  // every tick that one of the periods divides, holding the bodies of the
+  // interests due at that tick (every body when one of them asks for all).
+  // Replaces the previous interest; empty: nothing is published but what
+  // request_snapshot() and edits while paused ask for.
+  void set_publish_interest(std::vector<PublishInterest> interest);
 
   // Whether to watch for bodies falling asleep and waking (a scan of the
   // bodies after every step), because a subscriber asked for those events.
@@ -164,8 +169,13 @@ class Simulation {
   // countdown, events and the snapshot if due.
   void advance();
   void apply(Command& command);
-  void publish(bool out_of_band);
-  bool publish_due();
+  // Publishes a snapshot of every body, or only of the bodies wanted_ lists.
+  void publish(bool every_body, bool out_of_band);
+  // Whether a snapshot is due after this tick: of every body when one was
+  // requested or a due interest wants all, else of the bodies collected in
+  // wanted_.
+  enum class Due { nothing, wanted_bodies, every_body };
+  Due publish_due();
   void flush_events();
   // Reports, as events of `tick`, the dynamic bodies whose sleep changed
   // since the last scan.
@@ -208,7 +218,8 @@ class Simulation {
   BodyLoads loads_;
   BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
   std::vector<Command> draining_;
-  std::vector<std::uint32_t> periods_;  // the sim thread's copy of publish_periods_
+  std::vector<PublishInterest> interest_;  // the sim thread's copy of published_interest_
+  std::vector<physics::BodyId> wanted_;     // bodies of the interests due at this tick, sorted
   std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
   double dt_;                           // s, 1 / tick rate
   std::uint64_t rate_since_tick_ = 0;   // the tick at which dt_ took effect
@@ -234,9 +245,9 @@ class Simulation {
 
   // Shared with other threads.
   CommandQueue commands_;
-  std::mutex periods_mutex_;
-  std::vector<std::uint32_t> publish_periods_;
-  bool periods_changed_ = false;
+  std::mutex interest_mutex_;
+  std::vector<PublishInterest> published_interest_;  // guarded by interest_mutex_
+  bool interest_changed_ = false;                    // guarded by interest_mutex_
   std::atomic<bool> snapshot_requested_{false};
   std::atomic<bool> sleep_events_wanted_{false};
   std::atomic<double> tick_rate_hz_;

@@ -1,8 +1,11 @@
 // An immutable copy of the world's poses after one step (or, while paused,
 // after an edit), shared by the publisher and every subscription that reads
-// it.
+// it. It holds every body, or only those the streams due at its tick asked
+// for (sim/publish_interest.h): covers() tells whether a stream can be
+// served from it.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -23,8 +26,20 @@ struct Snapshot {
   // The world was edited while paused (spawn, remove, set, impulse, reset):
   // every subscription gets this frame although its tick is not new.
   bool out_of_band = false;
+  // Every body of the world, in the world's order. Otherwise the bodies of
+  // `wanted` (sorted) that were in the world, in ascending id order.
+  bool all_bodies = true;
+  std::vector<physics::BodyId> wanted;
 
   std::size_t body_count() const { return ids.size(); }
+
+  // Whether the frame of a stream of every body (all) or of the sorted
+  // `bodies` can be made from this snapshot: a body asked for and missing
+  // from it is then one that has left the world.
+  bool covers(bool all, const std::vector<physics::BodyId>& bodies) const {
+    if (all_bodies) return true;
+    return !all && std::includes(wanted.begin(), wanted.end(), bodies.begin(), bodies.end());
+  }
 };
 
 }  // namespace tumble::sim

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 #include "raw_client.h"
 #include "protocol_checks.h"
@@ -99,6 +100,53 @@ TEST_F(ProtocolTest, SubscriberGetsTheCurrentStateAtOnceThenFramesAtItsRate) {
   for (std::size_t i = 1; i < ticks.size(); ++i) {
     EXPECT_EQ(ticks[i] % 4, 0u) << "tick " << ticks[i];
     EXPECT_GT(ticks[i], ticks[i - 1]);
+  }
+}
+
+TEST_F(ProtocolTest, StreamsOfOtherBodiesAndRatesEachGetTheirOwnBodies) {
+  // The sim copies into a snapshot only the bodies the streams due at its
+  // tick read: every frame must still hold exactly its stream's bodies,
+  // with the values a frame of every body shows at that tick.
+  RawClient client(server_.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(impulse(1, "ball", 2)));  // the ball moves along x at 2 m/s
+  ASSERT_TRUE(client.read_until([](const ServerMessage& m) { return is_reply_to(m, 1); }));
+  std::map<std::uint32_t, std::vector<std::uint32_t>> expected_ids;  // by subscription id
+  const auto add = [&](std::uint64_t id, double rate_hz, std::initializer_list<const char*> names,
+                       std::vector<std::uint32_t> ids) {
+    ASSERT_TRUE(client.send(subscribe(id, rate_hz, names)));
+    const auto reply = client.read_until([&](const ServerMessage& m) { return is_reply_to(m, id); });
+    ASSERT_TRUE(reply && reply->has_subscribed());
+    expected_ids[reply->subscribed().subscription_id()] = std::move(ids);
+  };
+  add(2, 240, {"ball"}, {1});
+  add(3, 60, {}, {0, 1});
+  add(4, 120, {"crate"}, {0});
+  ASSERT_EQ(expected_ids.size(), 3u);
+
+  std::map<std::uint32_t, std::vector<std::uint64_t>> ticks;  // by subscription id
+  std::map<std::uint64_t, float> ball_x;                      // by tick, from any stream
+  for (int i = 0; i < 60; ++i) {
+    const auto message = client.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+    ASSERT_TRUE(message);
+    const auto& frame = message->pose_frame();
+    const auto expected = expected_ids.find(frame.subscription_id());
+    ASSERT_NE(expected, expected_ids.end());
+    const std::vector<std::uint32_t> ids(frame.ids().begin(), frame.ids().end());
+    EXPECT_EQ(ids, expected->second) << "subscription " << frame.subscription_id() << ", tick " << frame.tick();
+    ticks[frame.subscription_id()].push_back(frame.tick());
+    for (int k = 0; k < frame.ids_size(); ++k) {
+      if (frame.ids(k) != 1) continue;
+      const float x = frame.positions(3 * k);
+      const auto [seen, inserted] = ball_x.emplace(frame.tick(), x);
+      EXPECT_EQ(seen->second, x) << "the ball at tick " << frame.tick() << " in two streams";
+      if (!inserted) continue;
+      EXPECT_NEAR(x, 3.0 + 2.0 * static_cast<double>(frame.tick() - 1) / 240.0, 0.05) << "tick " << frame.tick();
+    }
+  }
+  for (const auto& [id, seen] : ticks) {
+    EXPECT_GE(seen.size(), 2u) << "subscription " << id;
+    for (std::size_t k = 1; k < seen.size(); ++k) EXPECT_GT(seen[k], seen[k - 1]) << "subscription " << id;
   }
 }
 

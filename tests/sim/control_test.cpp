@@ -617,7 +617,7 @@ TEST_F(ControlTest, StatsReportTheClockTheBodiesAndTheStepTimes) {
 TEST_F(ControlTest, AnEditWhilePausedIsPublishedAtOnceOutOfBand) {
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
   driver_.sim().set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
-  driver_.sim().set_publish_periods({1});
+  driver_.sim().set_publish_interest({PublishInterest{}});  // every body, every tick
   driver_.request(pause_message());
   snapshots.clear();
   driver_.run(10);

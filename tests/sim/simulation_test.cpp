@@ -195,12 +195,64 @@ TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
   sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { ticks.push_back(s->tick); });
   for (int i = 0; i < 5; ++i) sim_->run_tick();
   EXPECT_TRUE(ticks.empty()) << "nobody subscribed";
-  sim_->set_publish_periods({4, 6});
+  sim_->set_publish_interest({PublishInterest{4, true, {}}, PublishInterest{6, false, {ball_}}});
   for (int i = 0; i < 7; ++i) sim_->run_tick();  // ticks 6..12
   EXPECT_EQ(ticks, (std::vector<std::uint64_t>{6, 8, 12}));
   sim_->request_snapshot();
   sim_->run_tick();
   EXPECT_EQ(ticks.back(), 13u);
+}
+
+TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
+  std::vector<std::shared_ptr<const Snapshot>> snapshots;
+  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  // The ball and an id that is not in the world (a body removed before the
+  // interest caught up) every tick, the crate every second tick, every
+  // body every third.
+  const physics::BodyId gone = ball_ + 100;
+  ASSERT_LT(crate_, ball_);
+  sim_->set_publish_interest({PublishInterest{1, false, {ball_, gone}}, PublishInterest{2, false, {crate_}},
+                              PublishInterest{3, true, {}}});
+  for (int i = 0; i < 6; ++i) sim_->run_tick();  // ticks 1..6
+  ASSERT_EQ(snapshots.size(), 6u);
+  for (const auto& s : snapshots) {
+    if (s->tick % 3 == 0) {
+      EXPECT_TRUE(s->all_bodies);
+      EXPECT_EQ(s->body_count(), 2u) << "tick " << s->tick;
+      EXPECT_TRUE(s->covers(true, {}));
+      continue;
+    }
+    EXPECT_FALSE(s->all_bodies);
+    EXPECT_FALSE(s->covers(true, {}));
+    EXPECT_TRUE(s->covers(false, {ball_}));
+    EXPECT_TRUE(s->covers(false, {gone})) << "a body that left the world is covered by its absence";
+    if (s->tick % 2 == 0) {
+      EXPECT_EQ(s->ids, (std::vector<physics::BodyId>{crate_, ball_})) << "tick " << s->tick;
+      EXPECT_EQ(s->wanted, (std::vector<physics::BodyId>{crate_, ball_, gone}));
+      EXPECT_TRUE(s->covers(false, {crate_, ball_}));
+    } else {
+      EXPECT_EQ(s->ids, (std::vector<physics::BodyId>{ball_})) << "tick " << s->tick;
+      EXPECT_EQ(s->wanted, (std::vector<physics::BodyId>{ball_, gone}));
+      EXPECT_FALSE(s->covers(false, {crate_})) << "the crate was not asked for";
+    }
+    EXPECT_EQ(s->positions.size(), 3 * s->body_count());
+    EXPECT_EQ(s->orientations.size(), 4 * s->body_count());
+  }
+  // The ball's values in it are the world's after the step.
+  snapshots.clear();
+  ClientMessage push;
+  push.mutable_apply_impulse()->mutable_body()->set_name("ball");
+  push.mutable_apply_impulse()->mutable_impulse()->set_y(2);
+  request(push);
+  ASSERT_EQ(snapshots.size(), 1u);
+  const Snapshot& only = *snapshots[0];
+  ASSERT_EQ(only.body_count(), 1u);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(only.positions[static_cast<std::size_t>(k)], sim_->world().position(ball_)[k]);
+    EXPECT_EQ(only.linear_velocities[static_cast<std::size_t>(k)], sim_->world().linear_velocity(ball_)[k]);
+  }
+  EXPECT_DOUBLE_EQ(only.linear_velocities[1], 2.0);
+  EXPECT_EQ(only.orientations[0], sim_->world().orientation(ball_).w());
 }
 
 TEST_F(SimulationTest, SnapshotHoldsThePosesAfterTheStep) {

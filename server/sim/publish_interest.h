@@ -1,0 +1,22 @@
+// What the pose streams need from the sim's snapshots: at every multiple of
+// period_ticks, the poses of some bodies. The publisher states it whenever
+// its streams change (Simulation::set_publish_interest); the sim copies
+// into a snapshot only the bodies the streams due at that tick read, so a
+// small stream at the tick rate beside a large one at a lower rate does not
+// cost a copy of the whole world every tick.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "physics/body.h"
+
+namespace tumble::sim {
+
+struct PublishInterest {
+  std::uint32_t period_ticks = 1;       // > 0
+  bool all_bodies = true;               // every body, whatever `bodies` holds
+  std::vector<physics::BodyId> bodies;  // sorted, unique; read when !all_bodies
+};
+
+}  // namespace tumble::sim
