@@ -286,6 +286,36 @@ Vec3 World::angular_velocity(BodyId id) const {
   return body_to_world_tensor(states_[i].orientation, masses_[i].inverse_inertia_body) * l;
 }
 
+void World::copy_poses(BodyId* ids, double* positions, double* orientations, double* linear_velocities,
+                       double* angular_velocities) const {
+  for (std::size_t i = 0; i < states_.size(); ++i) {
+    const BodyState& state = states_[i];
+    ids[i] = dense_to_id_[i];
+    std::copy(state.position.data(), state.position.data() + 3, positions + 3 * i);
+    double* o = orientations + 4 * i;
+    o[0] = state.orientation.w();
+    o[1] = state.orientation.x();
+    o[2] = state.orientation.y();
+    o[3] = state.orientation.z();
+    Vec3 v;
+    Vec3 w;
+    if (records_[i].motion_type == MotionType::kinematic_body) {
+      v = records_[i].kinematic_linear_velocity;
+      w = records_[i].kinematic_angular_velocity;
+    } else {
+      // As linear_velocity() and angular_velocity(): P / M, and no tensor
+      // when L = 0 (static and sleeping bodies).
+      v = state.linear_momentum * inverse_masses_[i];
+      const Vec3& l = state.angular_momentum;
+      w = l.x() == 0 && l.y() == 0 && l.z() == 0
+              ? Vec3::Zero()
+              : Vec3(body_to_world_tensor(state.orientation, masses_[i].inverse_inertia_body) * l);
+    }
+    std::copy(v.data(), v.data() + 3, linear_velocities + 3 * i);
+    std::copy(w.data(), w.data() + 3, angular_velocities + 3 * i);
+  }
+}
+
 const Vec3& World::linear_momentum(BodyId id) const { return states_[dense_index(id)].linear_momentum; }
 
 const Vec3& World::angular_momentum(BodyId id) const { return states_[dense_index(id)].angular_momentum; }

@@ -416,15 +416,16 @@ void Simulation::publish(bool every_body, bool out_of_band) {
   snapshot->orientations.resize(4 * n);
   snapshot->linear_velocities.resize(3 * n);
   snapshot->angular_velocities.resize(3 * n);
+  if (every_body) {
+    world_.copy_poses(snapshot->ids.data(), snapshot->positions.data(), snapshot->orientations.data(),
+                      snapshot->linear_velocities.data(), snapshot->angular_velocities.data());
+    listener_(std::move(snapshot));
+    return;
+  }
   std::size_t next_wanted = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    physics::BodyId id;
-    if (every_body) {
-      id = world_.body_id_at(i);
-    } else {
-      while (!world_.contains(wanted_[next_wanted])) ++next_wanted;  // removed since the streams asked
-      id = wanted_[next_wanted++];
-    }
+    while (!world_.contains(wanted_[next_wanted])) ++next_wanted;  // removed since the streams asked
+    const physics::BodyId id = wanted_[next_wanted++];
     snapshot->ids[i] = id;
     const physics::Vec3& x = world_.position(id);
     const physics::Quat& q = world_.orientation(id);

@@ -9,6 +9,7 @@
 
 #include "physics/mass_properties.h"
 #include "physics/rotation.h"
+#include "scene_helpers.h"
 
 namespace tumble::physics {
 namespace {
@@ -97,6 +98,58 @@ TEST(WorldTest, RemoveKeepsOtherBodiesIntact) {
     EXPECT_LT((world.position(ids[k]) - (positions[k] + velocities[k] * dt)).norm(), 1e-14);
   }
   EXPECT_EQ(world.position(fresh), fresh_position);
+}
+
+TEST(WorldTest, CopyPosesMatchesTheAccessorsBodyForBody) {
+  // Every kind of body: awake tumbling boxes, a sleeping one, a moving and
+  // a still kinematic body, a static body and the ground plane.
+  World world;
+  world.add_body(testing::ground_plane());
+  BodyDesc tumbling = testing::box_body(Vec3(0, 3, 0));
+  tumbling.orientation = Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()));
+  tumbling.angular_velocity = Vec3(0.5, -2, 1);
+  const BodyId spinner = world.add_body(tumbling);
+  world.add_body(testing::box_body(Vec3(5, 0.5, 0)));  // resting on the ground: falls asleep
+  BodyDesc kinematic = testing::box_body(Vec3(-5, 2, 0));
+  kinematic.motion_type = MotionType::kinematic_body;
+  kinematic.linear_velocity = Vec3(0.25, 0, 0);
+  kinematic.angular_velocity = Vec3(0, 1, 0);
+  world.add_body(kinematic);
+  kinematic.position = Vec3(-9, 2, 0);
+  kinematic.linear_velocity = Vec3::Zero();
+  kinematic.angular_velocity = Vec3::Zero();
+  world.add_body(kinematic);
+  BodyDesc fixed = testing::box_body(Vec3(9, 1, 0));
+  fixed.motion_type = MotionType::static_body;
+  world.add_body(fixed);
+  for (int i = 0; i < 240; ++i) world.step(1.0 / 240.0);
+  world.remove_body(spinner);  // the dense order is no longer that of creation
+  for (int i = 0; i < 120; ++i) world.step(1.0 / 240.0);
+  world.add_body(tumbling);
+  world.step(1.0 / 240.0);
+
+  const std::size_t n = world.body_count();
+  ASSERT_EQ(n, 6u);
+  EXPECT_EQ(world.sleeping_body_count(), 1u);
+  std::vector<BodyId> ids(n);
+  std::vector<double> x(3 * n), q(4 * n), v(3 * n), w(3 * n);
+  world.copy_poses(ids.data(), x.data(), q.data(), v.data(), w.data());
+  for (std::size_t i = 0; i < n; ++i) {
+    const BodyId id = ids[i];
+    ASSERT_EQ(id, world.body_id_at(i));
+    const Quat& orientation = world.orientation(id);
+    EXPECT_EQ(q[4 * i], orientation.w()) << "body " << id;
+    EXPECT_EQ(q[4 * i + 1], orientation.x()) << "body " << id;
+    EXPECT_EQ(q[4 * i + 2], orientation.y()) << "body " << id;
+    EXPECT_EQ(q[4 * i + 3], orientation.z()) << "body " << id;
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t at = 3 * i + static_cast<std::size_t>(k);
+      EXPECT_EQ(x[at], world.position(id)[k]) << "body " << id;
+      EXPECT_EQ(v[at], world.linear_velocity(id)[k]) << "body " << id;
+      EXPECT_EQ(w[at], world.angular_velocity(id)[k]) << "body " << id;
+    }
+  }
+  EXPECT_NE(world.angular_velocity(world.body_id_at(5)), Vec3::Zero()) << "the new box tumbles";
 }
 
 TEST(WorldTest, RemoveAllThenAdd) {
