@@ -28,10 +28,12 @@ constexpr std::uint32_t kSleepEventBits = (std::uint32_t{1} << tumble::v1::WORLD
 
 }  // namespace
 
-Publisher::Publisher(boost::asio::io_context& io, sim::Simulation& sim) : io_(io), sim_(sim) {}
+Publisher::Publisher(boost::asio::io_context& io, sim::Simulation& sim, std::chrono::microseconds fanout_slice)
+    : io_(io), sim_(sim), fanout_slice_(fanout_slice) {}
 
 std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::shared_ptr<Session>& session,
                                                                    const tumble::v1::Subscribe& request) {
+  serve_fanouts(true);  // what a session gets stays in order
   // Resolve the filter to ids now: a misspelt name is an error the client should hear about.
   std::vector<physics::BodyId> bodies;
   for (const tumble::v1::BodyRef& ref : request.bodies()) {
@@ -86,6 +88,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
 }
 
 bool Publisher::request_key_frame(const std::shared_ptr<Session>& session, std::uint32_t stream_id) {
+  serve_fanouts(true);  // what a session gets stays in order
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) { return s.id == stream_id; });
   if (it == streams_.end() || std::none_of(it->members.begin(), it->members.end(),
                                            [&](const Member& m) { return m.key == session.get(); })) {
@@ -97,6 +100,7 @@ bool Publisher::request_key_frame(const std::shared_ptr<Session>& session, std::
 }
 
 bool Publisher::unsubscribe(const Session& session, std::uint32_t stream_id) {
+  serve_fanouts(true);  // what a session gets stays in order
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) { return s.id == stream_id; });
   if (it == streams_.end()) return false;
   const auto is_session = [&](const Member& m) { return m.key == &session; };
@@ -111,6 +115,7 @@ bool Publisher::unsubscribe(const Session& session, std::uint32_t stream_id) {
 }
 
 void Publisher::remove_session(const Session& session) {
+  serve_fanouts(true);  // what a session gets stays in order
   const auto is_session = [&](const Member& m) { return m.key == &session; };
   for (Stream& stream : streams_) {
     std::erase_if(stream.members, is_session);
@@ -149,6 +154,7 @@ void Publisher::offer_events(std::shared_ptr<const sim::WorldEvents> events) {
 }
 
 void Publisher::publish_latest() {
+  serve_fanouts(true);  // what a session gets stays in order
   std::shared_ptr<const sim::Snapshot> snapshot;
   {
     std::lock_guard lock(handoff_mutex_);
@@ -212,9 +218,12 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
     stream.awaiting_first.clear();
     if (regular) stream.last_tick = snapshot.tick;
   }
+  serve_fanouts(false);
 }
 
-void Publisher::send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) const {
+void Publisher::send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) {
+  Fanout fanout;
+  fanout.stream_id = stream.id;
   if (stream.encoding == tumble::v1::POSE_ENCODING_DELTA) {
     auto frame = std::make_shared<QuantizedFrame>();
     frame->subscription_id = stream.id;
@@ -223,15 +232,40 @@ void Publisher::send_frame(Stream& stream, const sim::Snapshot& snapshot, const 
     frame->velocities = stream.velocities;
     frame->bodies = quantize(stream, snapshot);
     frame->sequence = ++stream.frames_made;
-    const std::shared_ptr<const QuantizedFrame> shared = std::move(frame);
-    for (const Member& member : targets) {
-      if (auto session = member.session.lock()) session->send_delta_frame(stream.id, shared);
-    }
-    return;
+    fanout.delta = std::move(frame);
+  } else {
+    fanout.bytes = encode(stream, snapshot);
   }
-  const std::shared_ptr<const std::string> bytes = encode(stream, snapshot);
-  for (const Member& member : targets) {
-    if (auto session = member.session.lock()) session->send_frame(stream.id, bytes);
+  fanout.targets.reserve(targets.size());
+  for (const Member& member : targets) fanout.targets.push_back(member.session);
+  fanouts_.push_back(std::move(fanout));
+}
+
+void Publisher::serve_fanouts(bool all) {
+  const auto started = std::chrono::steady_clock::now();
+  while (!fanouts_.empty()) {
+    Fanout& fanout = fanouts_.front();
+    while (fanout.next < fanout.targets.size()) {
+      if (auto session = fanout.targets[fanout.next].lock()) {
+        if (fanout.delta) {
+          session->send_delta_frame(fanout.stream_id, fanout.delta);
+        } else {
+          session->send_frame(fanout.stream_id, fanout.bytes);
+        }
+      }
+      ++fanout.next;
+      if (!all && std::chrono::steady_clock::now() - started >= fanout_slice_) {
+        if (!fanout_posted_) {
+          fanout_posted_ = true;
+          boost::asio::post(io_, [this] {
+            fanout_posted_ = false;
+            serve_fanouts(false);
+          });
+        }
+        return;
+      }
+    }
+    fanouts_.pop_front();
   }
 }
 

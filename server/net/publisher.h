@@ -27,10 +27,17 @@
 //
 // Order: the streams due at a snapshot are published cheapest first (the
 // fewest bodies times sessions), so a small stream's latency does not
-// depend on the large ones beside it.
+// depend on the large ones beside it. A frame is handed to its sessions a
+// slice of I/O time at a time (the constructor's fanout_slice): between slices the I/O thread
+// reads requests, so a command that arrives while a frame goes out to a
+// hundred sessions is not held until all of it is sent (it would miss its
+// tick). Every other call finishes the fan-out under way first, so what a
+// session receives is in the order it would be without slicing.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -59,7 +66,9 @@ struct Subscription {
 
 class Publisher {
  public:
-  Publisher(boost::asio::io_context& io, sim::Simulation& sim);
+  // `fanout_slice`: the I/O time a fan-out takes before the I/O thread turns
+  // to other work; zero hands a frame to one session a turn.
+  Publisher(boost::asio::io_context& io, sim::Simulation& sim, std::chrono::microseconds fanout_slice);
 
   // Adds `session` to the stream for `request`, making the stream if it is
   // new. Fails with UNKNOWN_BODY when the filter names a body that is not
@@ -104,11 +113,24 @@ class Publisher {
     std::vector<Member> awaiting_first;   // joined since the last frame
   };
 
+  // A frame on its way to the members of a stream.
+  struct Fanout {
+    std::uint32_t stream_id = 0;
+    std::shared_ptr<const std::string> bytes;     // FULL or QUANTIZED, framed
+    std::shared_ptr<const QuantizedFrame> delta;  // DELTA: each session encodes its own
+    std::vector<std::weak_ptr<Session>> targets;
+    std::size_t next = 0;                         // targets served so far
+  };
+
+  // Hands queued frames to their sessions: all of them, or for one slice
+  // of I/O time and then again from a posted handler.
+  void serve_fanouts(bool all);
+
   void publish_latest();
   void publish(const sim::Snapshot& snapshot);
   void deliver(const sim::WorldEvent& event);
-  // Sends the stream's frame of `snapshot` to `targets`.
-  void send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets) const;
+  // Queues the stream's frame of `snapshot` for `targets`.
+  void send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets);
   // A FULL or QUANTIZED frame, framed for the wire.
   std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
   // The stream's bodies on the quantization grids, sorted by id.
@@ -123,8 +145,11 @@ class Publisher {
 
   boost::asio::io_context& io_;
   sim::Simulation& sim_;
+  const std::chrono::microseconds fanout_slice_;
   std::vector<Stream> streams_;
   std::uint32_t next_stream_id_ = 1;
+  std::deque<Fanout> fanouts_;   // in the order they were made
+  bool fanout_posted_ = false;   // a serve_fanouts() handler is queued
 
   std::mutex handoff_mutex_;
   std::shared_ptr<const sim::Snapshot> latest_;                    // guarded by handoff_mutex_

@@ -26,7 +26,7 @@ Server::Server(asio::io_context& io, sim::Simulation& sim, ServerConfig config)
       acceptor_(io),
       accept_retry_(io),
       sweep_timer_(io),
-      publisher_(io, sim),
+      publisher_(io, sim, config_.fanout_slice),
       context_{io, sim, publisher_, config_.limits, config_.server_version, config_.access, counters_} {
   sim_.set_snapshot_listener(
       [this](std::shared_ptr<const sim::Snapshot> snapshot) { publisher_.offer(std::move(snapshot)); });

@@ -10,6 +10,7 @@
 // io_context (or before it runs); all its work happens there.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -36,6 +37,9 @@ struct ServerConfig {
   bool serve_http = false;
   std::string http_host = "127.0.0.1";
   std::uint16_t http_port = 8080;  // 0 picks a free port; see Server::http_port()
+  // I/O time a frame's fan-out to its sessions takes before the I/O thread
+  // reads requests again (Publisher); 0: one session at a time.
+  std::chrono::microseconds fanout_slice{250};
 };
 
 class Server {

@@ -2,9 +2,14 @@
 // streams, and bad input that must get a clear error and harm nobody else.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "raw_client.h"
 #include "protocol_checks.h"
@@ -147,6 +152,74 @@ TEST_F(ProtocolTest, StreamsOfOtherBodiesAndRatesEachGetTheirOwnBodies) {
   for (const auto& [id, seen] : ticks) {
     EXPECT_GE(seen.size(), 2u) << "subscription " << id;
     for (std::size_t k = 1; k < seen.size(); ++k) EXPECT_GT(seen[k], seen[k - 1]) << "subscription " << id;
+  }
+}
+
+TEST(FanOut, InSlicesEverySessionGetsEveryFrameAndEventInOrder) {
+  // A fan-out handed to one session a turn, with requests read in between:
+  // each subscriber still sees its frames in tick order, and the removal
+  // of a body before the first frame without it.
+  std::string scene = R"({"gravity": [0, 0, 0], "bodies": [)";
+  for (int i = 0; i < 60; ++i) {
+    scene += std::string(i > 0 ? "," : "") + R"({"shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [)" +
+             std::to_string(i) + ", 0, 0]}";
+  }
+  scene += "]}";
+  net::ServerConfig config;
+  config.fanout_slice = std::chrono::microseconds(0);
+  TestServer server(scene, 240, config);
+
+  std::vector<std::unique_ptr<RawClient>> subscribers;
+  for (int i = 0; i < 12; ++i) {
+    subscribers.push_back(std::make_unique<RawClient>(server.port()));
+    RawClient& client = *subscribers.back();
+    ASSERT_TRUE(client.handshake());
+    ClientMessage request = subscribe(1, 240, {});  // a frame every tick
+    request.mutable_subscribe()->add_events(tumble::v1::WORLD_EVENT_BODY_REMOVED);
+    ASSERT_TRUE(client.send(request));
+    ASSERT_TRUE(client.read_until([](const ServerMessage& m) { return is_reply_to(m, 1); }));
+  }
+  RawClient controller(server.port());
+  ASSERT_TRUE(controller.handshake());
+  ClientMessage remove;
+  remove.set_request_id(2);
+  remove.mutable_remove_body()->mutable_body()->set_id(7);
+  ASSERT_TRUE(controller.send(remove));
+  const auto ack = controller.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(ack && ack->has_ack()) << (ack ? ack->DebugString() : "no reply");
+  const std::uint64_t removed_at = ack->ack().applied_tick();
+
+  for (auto& client : subscribers) {
+    std::uint64_t last_tick = 0;
+    bool saw_event = false;
+    int frames_after = 0;
+    while (frames_after < 3) {
+      const auto message =
+          client->read_until([](const ServerMessage& m) { return m.has_pose_frame() || m.has_world_event(); });
+      ASSERT_TRUE(message);
+      if (message->has_world_event()) {
+        EXPECT_EQ(message->world_event().body_id(), 7u);
+        EXPECT_EQ(message->world_event().tick(), removed_at);
+        saw_event = true;
+        continue;
+      }
+      const auto& frame = message->pose_frame();
+      EXPECT_GT(frame.tick(), last_tick);
+      last_tick = frame.tick();
+      const bool has_seven = std::find(frame.ids().begin(), frame.ids().end(), 7u) != frame.ids().end();
+      if (saw_event) {
+        EXPECT_GE(frame.tick(), removed_at) << "a frame from before the removal came after it";
+      }
+      if (frame.tick() < removed_at) {
+        EXPECT_EQ(frame.ids_size(), 60);
+        EXPECT_TRUE(has_seven);
+        continue;
+      }
+      EXPECT_TRUE(saw_event) << "the removal comes before the frame of tick " << frame.tick();
+      EXPECT_EQ(frame.ids_size(), 59);
+      EXPECT_FALSE(has_seven);
+      ++frames_after;
+    }
   }
 }
 
