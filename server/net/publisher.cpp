@@ -208,10 +208,11 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
                          (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
     if (!regular && stream.awaiting_first.empty()) continue;
     if (!snapshot.covers(stream.all_bodies, stream.bodies)) {
-      // Taken before the sim knew of this stream, or a snapshot of the
-      // stream's tick was superseded in the handoff: the next one holds
-      // every body, and the frame is made up from it.
-      sim_.request_snapshot();
+      // A larger snapshot of this tick follows; or this one was
+      // taken before the sim knew of the stream, or the stream's own was
+      // superseded in the handoff: the next one then holds every body, and
+      // the frame is made up from it.
+      if (!snapshot.more_follows) sim_.request_snapshot();
       continue;
     }
     send_frame(stream, snapshot, regular ? stream.members : stream.awaiting_first);

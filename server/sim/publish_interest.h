@@ -3,7 +3,9 @@
 // its streams change (Simulation::set_publish_interest); the sim copies
 // into a snapshot only the bodies the streams due at that tick read, so a
 // small stream at the tick rate beside a large one at a lower rate does not
-// cost a copy of the whole world every tick.
+// cost a copy of the whole world every tick. When a large one is due beside
+// small ones, the small ones' bodies go first, in a snapshot of their own
+// (Snapshot::more_follows), so their frames do not wait for the large copy.
 #pragma once
 
 #include <cstdint>

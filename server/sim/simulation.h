@@ -169,13 +169,21 @@ class Simulation {
   // countdown, events and the snapshot if due.
   void advance();
   void apply(Command& command);
-  // Publishes a snapshot of every body, or only of the bodies wanted_ lists.
-  void publish(bool every_body, bool out_of_band);
+  // Publishes a snapshot of `bodies` (sorted), or of every body when null
+  // or when they are most of the world; more_follows: a larger snapshot of
+  // this tick comes next.
+  void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
   // Whether a snapshot is due after this tick: of every body when one was
   // requested or a due interest wants all, else of the bodies collected in
-  // wanted_.
+  // wanted_. early_ then holds the bodies of the due interests of at most
+  // kEarlySnapshotBodies bodies when there are larger ones beside them.
   enum class Due { nothing, wanted_bodies, every_body };
   Due publish_due();
+
+  // Interests of at most this many bodies are published in a snapshot of
+  // their own ahead of larger ones due at the same tick.
+  static constexpr std::size_t kEarlySnapshotBodies = 64;
+
   void flush_events();
   // Reports, as events of `tick`, the dynamic bodies whose sleep changed
   // since the last scan.
@@ -220,6 +228,7 @@ class Simulation {
   std::vector<Command> draining_;
   std::vector<PublishInterest> interest_;  // the sim thread's copy of published_interest_
   std::vector<physics::BodyId> wanted_;     // bodies of the interests due at this tick, sorted
+  std::vector<physics::BodyId> early_;      // those of the small ones, when larger ones are due too
   std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
   double dt_;                           // s, 1 / tick rate
   std::uint64_t rate_since_tick_ = 0;   // the tick at which dt_ took effect

@@ -30,6 +30,10 @@ struct Snapshot {
   // `wanted` (sorted) that were in the world, in ascending id order.
   bool all_bodies = true;
   std::vector<physics::BodyId> wanted;
+  // A larger snapshot of the same tick is handed over next: the small
+  // streams' frames are made from this one without waiting for the copy of
+  // the large one, and the streams it does not cover wait for that.
+  bool more_follows = false;
 
   std::size_t body_count() const { return ids.size(); }
 

@@ -197,7 +197,8 @@ TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
   EXPECT_TRUE(ticks.empty()) << "nobody subscribed";
   sim_->set_publish_interest({PublishInterest{4, true, {}}, PublishInterest{6, false, {ball_}}});
   for (int i = 0; i < 7; ++i) sim_->run_tick();  // ticks 6..12
-  EXPECT_EQ(ticks, (std::vector<std::uint64_t>{6, 8, 12}));
+  // At 12 both are due: the ball on its own first, then every body.
+  EXPECT_EQ(ticks, (std::vector<std::uint64_t>{6, 8, 12, 12}));
   sim_->request_snapshot();
   sim_->run_tick();
   EXPECT_EQ(ticks.back(), 13u);
@@ -214,15 +215,22 @@ TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
   sim_->set_publish_interest({PublishInterest{1, false, {ball_, gone}}, PublishInterest{2, false, {crate_}},
                               PublishInterest{3, true, {}}});
   for (int i = 0; i < 6; ++i) sim_->run_tick();  // ticks 1..6
-  ASSERT_EQ(snapshots.size(), 6u);
-  for (const auto& s : snapshots) {
-    if (s->tick % 3 == 0) {
-      EXPECT_TRUE(s->all_bodies);
+  // Ticks 3 and 6 publish the filtered bodies first, then every body.
+  ASSERT_EQ(snapshots.size(), 8u);
+  for (std::size_t k = 0; k < snapshots.size(); ++k) {
+    const auto& s = snapshots[k];
+    EXPECT_EQ(s->more_follows, s->tick % 3 == 0 && !s->all_bodies) << "tick " << s->tick;
+    if (s->more_follows) {
+      ASSERT_LT(k + 1, snapshots.size());
+      EXPECT_EQ(snapshots[k + 1]->tick, s->tick);
+      EXPECT_TRUE(snapshots[k + 1]->all_bodies);
+    }
+    if (s->all_bodies) {
+      EXPECT_EQ(s->tick % 3, 0u);
       EXPECT_EQ(s->body_count(), 2u) << "tick " << s->tick;
       EXPECT_TRUE(s->covers(true, {}));
       continue;
     }
-    EXPECT_FALSE(s->all_bodies);
     EXPECT_FALSE(s->covers(true, {}));
     EXPECT_TRUE(s->covers(false, {ball_}));
     EXPECT_TRUE(s->covers(false, {gone})) << "a body that left the world is covered by its absence";
@@ -253,6 +261,46 @@ TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
   }
   EXPECT_DOUBLE_EQ(only.linear_velocities[1], 2.0);
   EXPECT_EQ(only.orientations[0], sim_->world().orientation(ball_).w());
+}
+
+TEST(SimulationSnapshots, SmallStreamsGoFirstAndMostOfTheWorldIsCopiedWhole) {
+  // 200 spheres: a probe of one body every tick, and 150 bodies by id
+  // every fourth tick (a viewer of most of the world).
+  std::string json = R"({"gravity": [0, 0, 0], "bodies": [)";
+  for (int i = 0; i < 200; ++i) {
+    json += std::string(i > 0 ? "," : "") + R"({"shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [)" +
+            std::to_string(i) + ", 0, 0]}";
+  }
+  tumble::v1::Scene scene;
+  ASSERT_TRUE(parse_scene_json(json + "]}", &scene).ok());
+  std::unique_ptr<Simulation> sim;
+  ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
+  std::vector<physics::BodyId> most;
+  for (physics::BodyId id = 10; id < 160; ++id) most.push_back(id);
+  const physics::BodyId probe = 3;
+  sim->set_publish_interest({PublishInterest{1, false, {probe}}, PublishInterest{4, false, most}});
+  std::vector<std::shared_ptr<const Snapshot>> snapshots;
+  sim->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  for (int i = 0; i < 8; ++i) sim->run_tick();  // ticks 1..8
+
+  ASSERT_EQ(snapshots.size(), 10u) << "two snapshots at ticks 4 and 8";
+  std::size_t k = 0;
+  for (std::uint64_t tick = 1; tick <= 8; ++tick) {
+    const Snapshot& first = *snapshots[k++];
+    EXPECT_EQ(first.tick, tick);
+    EXPECT_FALSE(first.all_bodies);
+    EXPECT_EQ(first.ids, (std::vector<physics::BodyId>{probe})) << "tick " << tick;
+    EXPECT_EQ(first.more_follows, tick % 4 == 0) << "tick " << tick;
+    if (tick % 4 != 0) continue;
+    EXPECT_FALSE(first.covers(false, most)) << "the large stream waits for the next one";
+    const Snapshot& second = *snapshots[k++];
+    EXPECT_EQ(second.tick, tick);
+    EXPECT_FALSE(second.more_follows);
+    EXPECT_TRUE(second.all_bodies) << "151 of 200 bodies: the whole world, copied in one pass";
+    EXPECT_EQ(second.body_count(), 200u);
+    EXPECT_TRUE(second.covers(false, most));
+    EXPECT_TRUE(second.covers(false, {probe}));
+  }
 }
 
 TEST_F(SimulationTest, SnapshotHoldsThePosesAfterTheStep) {
