@@ -8,12 +8,17 @@
 // (Snapshot::more_follows), so their frames do not wait for the large copy.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "physics/body.h"
 
 namespace tumble::sim {
+
+// Interests of at most this many bodies are published in a snapshot of
+// their own ahead of larger ones due at the same tick.
+inline constexpr std::size_t kEarlySnapshotBodies = 64;
 
 struct PublishInterest {
   std::uint32_t period_ticks = 1;       // > 0

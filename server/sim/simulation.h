@@ -180,10 +180,6 @@ class Simulation {
   enum class Due { nothing, wanted_bodies, every_body };
   Due publish_due();
 
-  // Interests of at most this many bodies are published in a snapshot of
-  // their own ahead of larger ones due at the same tick.
-  static constexpr std::size_t kEarlySnapshotBodies = 64;
-
   void flush_events();
   // Reports, as events of `tick`, the dynamic bodies whose sleep changed
   // since the last scan.
