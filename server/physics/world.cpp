@@ -269,14 +269,16 @@ const Vec3& World::position(BodyId id) const { return states_[dense_index(id)].p
 
 const Quat& World::orientation(BodyId id) const { return states_[dense_index(id)].orientation; }
 
-Vec3 World::linear_velocity(BodyId id) const {
-  const std::size_t i = dense_index(id);
+Vec3 World::linear_velocity(BodyId id) const { return linear_velocity_at(dense_index(id)); }
+
+Vec3 World::angular_velocity(BodyId id) const { return angular_velocity_at(dense_index(id)); }
+
+Vec3 World::linear_velocity_at(std::size_t i) const {
   if (records_[i].motion_type == MotionType::kinematic_body) return records_[i].kinematic_linear_velocity;
-  return states_[i].linear_momentum * masses_[i].inverse_mass;
+  return states_[i].linear_momentum * inverse_masses_[i];  // 1/M, kept flat beside the states
 }
 
-Vec3 World::angular_velocity(BodyId id) const {
-  const std::size_t i = dense_index(id);
+Vec3 World::angular_velocity_at(std::size_t i) const {
   if (records_[i].motion_type == MotionType::kinematic_body) return records_[i].kinematic_angular_velocity;
   // Sleeping and static bodies have L = 0: no tensor to build (a resting
   // world is read every tick for its frames).
@@ -297,20 +299,8 @@ void World::copy_poses(BodyId* ids, double* positions, double* orientations, dou
     o[1] = state.orientation.x();
     o[2] = state.orientation.y();
     o[3] = state.orientation.z();
-    Vec3 v;
-    Vec3 w;
-    if (records_[i].motion_type == MotionType::kinematic_body) {
-      v = records_[i].kinematic_linear_velocity;
-      w = records_[i].kinematic_angular_velocity;
-    } else {
-      // As linear_velocity() and angular_velocity(): P / M, and no tensor
-      // when L = 0 (static and sleeping bodies).
-      v = state.linear_momentum * inverse_masses_[i];
-      const Vec3& l = state.angular_momentum;
-      w = l.x() == 0 && l.y() == 0 && l.z() == 0
-              ? Vec3::Zero()
-              : Vec3(body_to_world_tensor(state.orientation, masses_[i].inverse_inertia_body) * l);
-    }
+    const Vec3 v = linear_velocity_at(i);
+    const Vec3 w = angular_velocity_at(i);
     std::copy(v.data(), v.data() + 3, linear_velocities + 3 * i);
     std::copy(w.data(), w.data() + 3, angular_velocities + 3 * i);
   }

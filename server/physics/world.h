@@ -251,6 +251,9 @@ class World {
   void set_box(std::size_t i, const Aabb& box);
   void refresh_solver_data(std::size_t i);
   void set_kinematic_awake(std::size_t i);
+  // linear_velocity() and angular_velocity() of the body at dense index i.
+  Vec3 linear_velocity_at(std::size_t i) const;
+  Vec3 angular_velocity_at(std::size_t i) const;
 
   // Contacts and collision (world_contacts.cpp).
   bool can_collide(std::size_t a, std::size_t b) const;
