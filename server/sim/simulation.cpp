@@ -345,12 +345,11 @@ void Simulation::advance() {
     edited_ = false;
     return;
   }
-  // A large snapshot is due: the small streams' bodies go first, in a
-  // snapshot of their own, or the copy of the large one would hold their
-  // frames back (about a millisecond for 10,000 bodies on this kind of
-  // machine, on every tick of a 60 Hz stream of all of them).
-  const bool large = due == Due::every_body || wanted_.size() > kEarlySnapshotBodies;
-  if (large && !early_.empty()) publish(&early_, false, true);
+  // With a large snapshot due, the small streams' bodies (early_) go
+  // first, in a snapshot of their own, or the copy of the large one would
+  // hold their frames back (about a millisecond for 10,000 bodies on this
+  // kind of machine, on every tick of a 60 Hz stream of all of them).
+  if (!early_.empty()) publish(&early_, false, true);
   publish(due == Due::every_body ? nullptr : &wanted_, false);
   edited_ = false;
 }
@@ -416,7 +415,7 @@ Simulation::Due Simulation::publish_due() {
   };
   if (due > 1) sort_unique(wanted_);
   if (early > 1) sort_unique(early_);
-  if (early == due && !every_body) early_.clear();  // nothing large to go before
+  if (early == due && !every_body) early_.clear();  // nothing large to go before: early_ stays empty
   if (every_body) return Due::every_body;
   return due > 0 ? Due::wanted_bodies : Due::nothing;
 }
