@@ -428,7 +428,8 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   snapshot->out_of_band = out_of_band;
   snapshot->more_follows = more_follows;
   // Most of the world asked for by id: every body in one pass over the
-  // dense arrays costs less than a lookup a body, and covers the same.
+  // dense arrays costs less than a lookup a body, and covers the same. A
+  // set small enough to go early never is (a tiny world keeps its filter).
   const bool every_body =
       bodies == nullptr || (bodies->size() > kEarlySnapshotBodies && 2 * bodies->size() >= world_.body_count());
   snapshot->all_bodies = every_body;
