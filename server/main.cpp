@@ -11,6 +11,7 @@
 
 #include "net/asio.h"
 #include "net/server.h"
+#include "realtime.h"
 #include "sim/journal.h"
 #include "sim/replay.h"
 #include "sim/request_check.h"
@@ -133,6 +134,14 @@ int main(int argc, char** argv) {
   auto* replay_option = app.add_option("--replay", replay_path,
                                        "Replay a journal made by --record (from its start; --scene must be the "
                                        "recorded scene when given), then serve the world paused where it ended");
+  // Scheduling: on a shared machine, keeps ticks and frames on time.
+  int realtime_priority = 0;
+  app.add_option("--realtime-priority", realtime_priority,
+                 "Run the sim and network threads under SCHED_FIFO at this priority (1 to 99), ahead of every "
+                 "ordinary process, so other work on the machine cannot delay a tick or a frame; needs "
+                 "CAP_SYS_NICE or ulimit -r. 0: ordinary scheduling")
+      ->capture_default_str()
+      ->check(CLI::Range(0, tumble::kMaxRealtimePriority));
   checkpoint_option->needs("--state");
   record_option->excludes(replay_option);
   app.set_version_flag("--version", kVersion);
@@ -268,6 +277,17 @@ int main(int argc, char** argv) {
                              std::chrono::duration<double>(checkpoint_interval)),
                          [&saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
     log->info("checkpointing the world to {} every {} s", state_path, checkpoint_interval);
+  }
+
+  // This thread becomes the I/O thread (io.run() below); the sim thread,
+  // started after it, inherits its scheduling. The checkpoint writer,
+  // started above, keeps ordinary scheduling: it writes files.
+  if (realtime_priority > 0) {
+    if (auto status = tumble::enter_realtime(realtime_priority); !status.ok()) {
+      log->error("--realtime-priority {}: {}", realtime_priority, status.message());
+      return 1;
+    }
+    log->info("sim and network threads run under SCHED_FIFO at priority {}", realtime_priority);
   }
 
   boost::asio::io_context io;

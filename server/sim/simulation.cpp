@@ -1,5 +1,7 @@
 #include "sim/simulation.h"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -243,6 +245,8 @@ void Simulation::set_publish_interest(std::vector<PublishInterest> interest) {
 void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.store(wanted, std::memory_order_relaxed); }
 
 void Simulation::run_loop() {
+  // Named for top -H, perf and /proc/PID/task/*/comm (at most 15 characters).
+  pthread_setname_np(pthread_self(), "tumbled-sim");
   double loop_dt = dt_;
   auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
   Clock::time_point start = Clock::now();

@@ -1,5 +1,7 @@
 #include "sim/state_saver.h"
 
+#include <pthread.h>
+
 #include "sim/log.h"
 #include "sim/state_file.h"
 
@@ -32,6 +34,7 @@ std::uint64_t StateSaver::written() const {
 }
 
 void StateSaver::run() {
+  pthread_setname_np(pthread_self(), "tumbled-saver");
   std::unique_lock lock(mutex_);
   for (;;) {
     wakeup_.wait(lock, [this] { return stopping_ || waiting_ != nullptr; });

@@ -1,8 +1,14 @@
 // tumbled as a user starts it: flags, scene errors, signals.
 #include <gtest/gtest.h>
 
+#include <sched.h>
+#include <unistd.h>
+
 #include <csignal>
+#include <filesystem>
 #include <fstream>
+#include <map>
+#include <thread>
 
 #include "tumbled_process.h"
 
@@ -60,6 +66,109 @@ TEST(Tumbled, AddressInUseIsAClearError) {
   const CommandResult second = run_command({tumbled_path(), "--listen", first.server()});
   EXPECT_EQ(second.exit_code, 1);
   EXPECT_NE(second.err.find("cannot bind"), std::string::npos) << second.err;
+}
+
+// The scheduling policy and priority of each of a process's threads, by
+// thread name (/proc/PID/task/*/comm).
+struct ThreadScheduling {
+  int policy = -1;
+  int priority = -1;
+};
+std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
+  std::map<std::string, ThreadScheduling> threads;
+  std::error_code error;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", error)) {
+    std::string name = read_file(task.path().string() + "/comm");
+    if (!name.empty() && name.back() == '\n') name.pop_back();
+    const auto tid = static_cast<pid_t>(std::stol(task.path().filename().string()));
+    ThreadScheduling scheduling;
+    scheduling.policy = sched_getscheduler(tid);
+    sched_param param{};
+    if (sched_getparam(tid, &param) == 0) scheduling.priority = param.sched_priority;
+    threads[name] = scheduling;
+  }
+  return threads;
+}
+
+// The threads of pid once its sim thread has started (named when it
+// starts, which may be after the port file is written).
+std::map<std::string, ThreadScheduling> threads_once_stepping(pid_t pid) {
+  auto threads = thread_scheduling(pid);
+  for (int i = 0; i < 200 && !threads.contains("tumbled-sim"); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    threads = thread_scheduling(pid);
+  }
+  return threads;
+}
+
+// Whether this process may put a thread under SCHED_FIFO at `priority`
+// (root or CAP_SYS_NICE, or RLIMIT_RTPRIO), tried on a thread of its own.
+bool may_use_fifo(int priority) {
+  bool allowed = false;
+  std::thread([&] {
+    sched_param param{};
+    param.sched_priority = priority;
+    allowed = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0;
+  }).join();
+  return allowed;
+}
+
+TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
+  TumbledProcess server(kScene);
+  ASSERT_TRUE(server.started()) << server.log();
+  const auto threads = threads_once_stepping(server.process().pid());
+  ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
+  for (const auto& [name, scheduling] : threads) EXPECT_EQ(scheduling.policy, SCHED_OTHER) << name;
+}
+
+TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
+  if (!may_use_fifo(3)) GTEST_SKIP() << "this process may not use SCHED_FIFO (no CAP_SYS_NICE, ulimit -r 0)";
+  const std::string dir = make_temp_dir();
+  TumbledProcess server(kScene, {"--realtime-priority", "3", "--state", dir + "/world.state", "--checkpoint-interval", "60"});
+  ASSERT_TRUE(server.started()) << server.log();
+  const auto threads = threads_once_stepping(server.process().pid());
+  ASSERT_TRUE(threads.contains("tumbled")) << server.log();
+  ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
+  ASSERT_TRUE(threads.contains("tumbled-saver")) << server.log();
+  // The main thread runs the network (io.run()); the sim thread steps.
+  EXPECT_EQ(threads.at("tumbled").policy, SCHED_FIFO);
+  EXPECT_EQ(threads.at("tumbled").priority, 3);
+  EXPECT_EQ(threads.at("tumbled-sim").policy, SCHED_FIFO);
+  EXPECT_EQ(threads.at("tumbled-sim").priority, 3);
+  // The checkpoint writer writes files: it stays ordinary.
+  EXPECT_EQ(threads.at("tumbled-saver").policy, SCHED_OTHER);
+  EXPECT_NE(server.log().find("SCHED_FIFO at priority 3"), std::string::npos) << server.log();
+
+  // And it serves and steps as ever.
+  const CommandResult bodies = server.cli({"bodies"});
+  EXPECT_EQ(bodies.exit_code, 0) << bodies.err;
+  EXPECT_NE(bodies.out.find("crate"), std::string::npos) << bodies.out;
+  server.process().signal(SIGTERM);
+  const auto code = server.process().wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0) << server.log();
+}
+
+TEST(Tumbled, RealtimePriorityRefusedIsAClearErrorBeforeListening) {
+  // No RLIMIT_RTPRIO, and (as root) no CAP_SYS_NICE after exec: the kernel
+  // refuses SCHED_FIFO. prlimit and setpriv are util-linux's (essential in
+  // Debian).
+  std::vector<std::string> argv = {"/usr/bin/prlimit", "--rtprio=0"};
+  if (geteuid() == 0) argv.insert(argv.end(), {"/usr/bin/setpriv", "--bounding-set", "-sys_nice"});
+  const std::string dir = make_temp_dir();
+  argv.insert(argv.end(), {tumbled_path(), "--listen", "127.0.0.1:0", "--port-file", dir + "/port",
+                           "--realtime-priority", "5"});
+  const CommandResult result = run_command(argv);
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("--realtime-priority 5: the kernel refused SCHED_FIFO"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("CAP_SYS_NICE"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/port")) << "it listened before failing";
+}
+
+TEST(Tumbled, RealtimePriorityOutsideOneTo99IsAUsageError) {
+  EXPECT_EQ(run_command({tumbled_path(), "--realtime-priority", "100"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--realtime-priority", "-1"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--realtime-priority", "high"}).exit_code, 2);
 }
 
 }  // namespace
