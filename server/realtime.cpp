@@ -22,8 +22,9 @@ sim::Status enter_realtime(int priority) {
   std::string message = "the kernel refused SCHED_FIFO at priority " + std::to_string(priority) + " (" +
                         std::strerror(error) + ")";
   if (error == EPERM) {
-    message += ": it needs CAP_SYS_NICE (root, or docker run --cap-add SYS_NICE) or an RLIMIT_RTPRIO of at least " +
-               std::to_string(priority) + " (ulimit -r)";
+    const std::string p = std::to_string(priority);
+    message += ": it needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least " + p + " (ulimit -r " + p +
+               "; in a container, docker run --ulimit rtprio=" + p + ")";
   }
   return sim::Status::error(message);
 }

@@ -9,8 +9,9 @@
 // they leave; a server that falls behind still leaves the kernel's
 // real-time reserve (/proc/sys/kernel/sched_rt_runtime_us, 5% by default).
 //
-// Linux only. Needs CAP_SYS_NICE (root, or `docker run --cap-add SYS_NICE`)
-// or an RLIMIT_RTPRIO of at least the priority (`ulimit -r`).
+// Linux only. Needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least the
+// priority (`ulimit -r`; `docker run --ulimit rtprio=N` for the image's
+// unprivileged user).
 #pragma once
 
 #include "sim/status.h"

@@ -165,6 +165,28 @@ TEST(Tumbled, RealtimePriorityRefusedIsAClearErrorBeforeListening) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/port")) << "it listened before failing";
 }
 
+TEST(Tumbled, RealtimePriorityIsGrantedByRlimitRtprioWithoutPrivilege) {
+  // As the image's unprivileged user with docker run --ulimit rtprio=5:
+  // RLIMIT_RTPRIO 5 and no CAP_SYS_NICE.
+  if (geteuid() != 0 || run_command({"/usr/bin/prlimit", "--rtprio=5", "/bin/true"}).exit_code != 0) {
+    GTEST_SKIP() << "this process may not raise RLIMIT_RTPRIO (no CAP_SYS_RESOURCE)";
+  }
+  const std::string dir = make_temp_dir();
+  ChildProcess server({"/usr/bin/prlimit", "--rtprio=5", "/usr/bin/setpriv", "--bounding-set", "-sys_nice",
+                       tumbled_path(), "--listen", "127.0.0.1:0", "--port-file", dir + "/port", "--realtime-priority",
+                       "5"},
+                      dir + "/log");
+  for (int i = 0; i < 200 && !std::filesystem::exists(dir + "/port"); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ASSERT_TRUE(std::filesystem::exists(dir + "/port")) << read_file(dir + "/log");
+  const auto threads = threads_once_stepping(server.pid());
+  ASSERT_TRUE(threads.contains("tumbled-sim")) << read_file(dir + "/log");
+  EXPECT_EQ(threads.at("tumbled-sim").policy, SCHED_FIFO);
+  EXPECT_EQ(threads.at("tumbled-sim").priority, 5);
+  EXPECT_EQ(threads.at("tumbled").policy, SCHED_FIFO);
+}
+
 TEST(Tumbled, RealtimePriorityOutsideOneTo99IsAUsageError) {
   EXPECT_EQ(run_command({tumbled_path(), "--realtime-priority", "100"}).exit_code, 2);
   EXPECT_EQ(run_command({tumbled_path(), "--realtime-priority", "-1"}).exit_code, 2);
