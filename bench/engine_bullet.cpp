@@ -42,6 +42,9 @@ class BulletEngine final : public Engine {
       btRigidBody::btRigidBodyConstructionInfo info(static_cast<btScalar>(body.mass), nullptr, shape,
                                                     to_bt(body.inertia));
       info.m_startWorldTransform.setOrigin(to_bt(body.position));
+      const Eigen::Quaterniond& q = body.orientation;
+      info.m_startWorldTransform.setRotation(btQuaternion(static_cast<btScalar>(q.x()), static_cast<btScalar>(q.y()),
+                                                          static_cast<btScalar>(q.z()), static_cast<btScalar>(q.w())));
       info.m_friction = kBodyFriction;
       dynamic_.push_back(std::make_unique<btRigidBody>(info));
       if (!options.sleeping) dynamic_.back()->setActivationState(DISABLE_DEACTIVATION);

@@ -61,6 +61,9 @@ class OdeEngine final : public Engine {
       dMassSetParameters(&mass, body.mass, 0, 0, 0, body.inertia.x(), body.inertia.y(), body.inertia.z(), 0, 0, 0);
       dBodySetMass(id, &mass);
       dBodySetPosition(id, body.position.x(), body.position.y(), body.position.z());
+      const dQuaternion orientation = {body.orientation.w(), body.orientation.x(), body.orientation.y(),
+                                       body.orientation.z()};  // ODE: [w, x, y, z]
+      dBodySetQuaternion(id, orientation);
       const dGeomID geom = body.shape == BodyShape::box
                                ? dCreateBox(space_, 2 * body.half_extents.x(), 2 * body.half_extents.y(),
                                             2 * body.half_extents.z())

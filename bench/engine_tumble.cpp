@@ -40,6 +40,7 @@ class TumbleEngine final : public Engine {
       desc.mass_properties.mass = body.mass;
       desc.mass_properties.inertia = body.inertia.asDiagonal();
       desc.position = body.position;
+      desc.orientation = body.orientation;
       desc.friction = kFriction;  // combined as sqrt(f_a f_b) = 0.5
       ids_.push_back(world_.add_body(desc));
     }

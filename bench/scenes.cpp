@@ -1,5 +1,6 @@
 #include "scenes.h"
 
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 
@@ -9,16 +10,21 @@ namespace {
 constexpr double kUnitMass = 1.0;
 constexpr double kHalf = 0.5;  // half extent of a unit box, radius of the spheres
 
-DynamicBody unit_box(const Vec3& position) {
+// A box of half extents h and mass m, unrotated at `position`.
+DynamicBody box(const Vec3& half, double mass, const Vec3& position) {
   DynamicBody body;
   body.shape = BodyShape::box;
-  body.half_extents = Vec3::Constant(kHalf);
-  body.mass = kUnitMass;
+  body.half_extents = half;
+  body.mass = mass;
   // Solid box: I_xx = m/3 (hy^2 + hz^2), and likewise for y and z.
-  body.inertia = Vec3::Constant(kUnitMass / 3.0 * (2.0 * kHalf * kHalf));
+  body.inertia = Vec3(half.y() * half.y() + half.z() * half.z(), half.x() * half.x() + half.z() * half.z(),
+                      half.x() * half.x() + half.y() * half.y()) *
+                 (mass / 3.0);
   body.position = position;
   return body;
 }
+
+DynamicBody unit_box(const Vec3& position) { return box(Vec3::Constant(kHalf), kUnitMass, position); }
 
 DynamicBody unit_sphere(const Vec3& position) {
   DynamicBody body;
@@ -117,10 +123,37 @@ Scene spheres(int columns, int height) {
   return scene;
 }
 
+// landing: the world of net_load's cubes (bench/net/load_world.cpp), the
+// server's heaviest stream benchmark: side x side cubes of 0.3 m and 1 kg,
+// 0.4 m apart, dropped from 0.4, 0.95 or 1.5 m (neighbours differ) in
+// tilted orientations that vary from cube to cube, and a level 1 m cube of
+// 10 kg dropped from 2.3 m onto the middle. They land, tumble into each
+// other and come to rest within about 2 s: every body is in the solver at
+// once.
+Scene landing(unsigned side) {
+  Scene scene;
+  scene.name = "landing";
+  const double centre = 0.4 * (side - 1) / 2;
+  for (unsigned i = 0; i < side * side; ++i) {
+    const unsigned column = i % side;
+    const unsigned row = i / side;
+    DynamicBody body = box(Vec3::Constant(0.15), 1.0,
+                           Vec3(0.4 * column - centre, 0.4 + 0.55 * ((column + row) % 3), 0.4 * row - centre));
+    // The tilt of load_world.cpp's set_tilt: an angle of 0.3 to 1 rad about
+    // an axis turned by the golden angle from cube to cube.
+    const double angle = 0.3 + 0.7 * static_cast<double>((i * 37) % 100) / 100;
+    const Vec3 axis(std::cos(i * 2.39996), 0.5, std::sin(i * 2.39996));
+    body.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis.normalized()));
+    scene.bodies.push_back(body);
+  }
+  scene.bodies.push_back(box(Vec3::Constant(0.5), 10.0, Vec3(0.0, 2.3, 0.0)));
+  return scene;
+}
+
 }  // namespace
 
 const std::vector<std::string>& scene_names() {
-  static const std::vector<std::string> names = {"pile", "pyramid", "spheres"};
+  static const std::vector<std::string> names = {"pile", "pyramid", "spheres", "landing"};
   return names;
 }
 
@@ -136,6 +169,9 @@ Scene make_scene(std::string_view name, bool smoke) {
   } else if (name == "spheres") {
     scene = smoke ? spheres(4, 4) : spheres(20, 25);
     scene.steps = 300;
+  } else if (name == "landing") {
+    scene = smoke ? landing(4) : landing(30);
+    scene.steps = 180;
   } else {
     throw std::invalid_argument("unknown scene: " + std::string(name));
   }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,9 +24,10 @@ inline constexpr int kSolverIterations = 10;      // Bullet's and ODE's solver i
 
 enum class BodyShape { box, sphere };
 
-// One dynamic body, starting at rest and unrotated. A box uses half_extents,
-// a sphere radius. inertia holds the principal moments about the centre of
-// mass (kg m^2) of the uniform solid, along the body axes.
+// One dynamic body, starting at rest. A box uses half_extents, a sphere
+// radius. inertia holds the principal moments about the centre of mass
+// (kg m^2) of the uniform solid, along the body axes; orientation turns the
+// body axes into the world's (unrotated unless a scene says otherwise).
 struct DynamicBody {
   BodyShape shape = BodyShape::box;
   Vec3 half_extents = Vec3::Zero();
@@ -33,6 +35,7 @@ struct DynamicBody {
   double mass = 0;
   Vec3 inertia = Vec3::Zero();
   Vec3 position = Vec3::Zero();
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
 };
 
 // A static, unrotated box (the walls of the spheres scene).
@@ -49,7 +52,8 @@ struct Scene {
   int steps = 0;
 };
 
-// The scene names, in the order they run by default: pile, pyramid, spheres.
+// The scene names, in the order they run by default: pile, pyramid, spheres,
+// landing.
 const std::vector<std::string>& scene_names();
 
 // Builds a named scene (one of scene_names()). smoke gives a small version of
