@@ -1,13 +1,40 @@
 #include "realtime.h"
 
+#include <linux/capability.h>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/resource.h>
 
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <string>
 
 namespace tumble {
+namespace {
+
+// Whether CAP_SYS_NICE is in this process's effective set (the CapEff mask
+// of /proc/self/status).
+bool holds_cap_sys_nice() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("CapEff:", 0) != 0) continue;
+    const std::uint64_t mask = std::stoull(line.substr(7), nullptr, 16);
+    return ((mask >> CAP_SYS_NICE) & 1) != 0;
+  }
+  return false;
+}
+
+// Whether the soft RLIMIT_RTPRIO lets an unprivileged thread use `priority`.
+bool rlimit_allows(int priority) {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_RTPRIO, &limit) != 0) return false;
+  return limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= static_cast<rlim_t>(priority);
+}
+
+}  // namespace
 
 sim::Status enter_realtime(int priority) {
   if (priority < kMinRealtimePriority || priority > kMaxRealtimePriority) {
@@ -23,8 +50,17 @@ sim::Status enter_realtime(int priority) {
                         std::strerror(error) + ")";
   if (error == EPERM) {
     const std::string p = std::to_string(priority);
-    message += ": it needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least " + p + " (ulimit -r " + p +
-               "; in a container, docker run --ulimit rtprio=" + p + ")";
+    if (holds_cap_sys_nice() || rlimit_allows(priority)) {
+      // Permitted to the process, refused all the same: under cgroup v1
+      // real-time group scheduling, a group gets no real-time time unless
+      // given some (cpu.rt_runtime_us is 0 in a new group).
+      message += ": the process may use it (CAP_SYS_NICE or RLIMIT_RTPRIO), but its control group has no real-time "
+                 "time; give the group some in cpu.rt_runtime_us (cgroup v1; in a container, docker run "
+                 "--cpu-rt-runtime=400000, with dockerd --cpu-rt-runtime set)";
+    } else {
+      message += ": it needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least " + p + " (ulimit -r " + p +
+                 "; in a container, docker run --ulimit rtprio=" + p + ")";
+    }
   }
   return sim::Status::error(message);
 }

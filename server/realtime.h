@@ -11,7 +11,9 @@
 //
 // Linux only. Needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least the
 // priority (`ulimit -r`; `docker run --ulimit rtprio=N` for the image's
-// unprivileged user).
+// unprivileged user); and, on a host with cgroup v1 real-time group
+// scheduling, real-time time for the process's control group
+// (cpu.rt_runtime_us, `docker run --cpu-rt-runtime`).
 #pragma once
 
 #include "sim/status.h"

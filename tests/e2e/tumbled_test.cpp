@@ -163,7 +163,8 @@ TEST(Tumbled, RealtimePriorityRefusedIsAClearErrorBeforeListening) {
   const CommandResult result = run_command(argv);
   EXPECT_EQ(result.exit_code, 1) << result.err;
   EXPECT_NE(result.err.find("--realtime-priority 5: the kernel refused SCHED_FIFO"), std::string::npos) << result.err;
-  EXPECT_NE(result.err.find("CAP_SYS_NICE"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find(": it needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least 5"), std::string::npos)
+      << result.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/port")) << "it listened before failing";
 }
 
@@ -187,6 +188,30 @@ TEST(Tumbled, RealtimePriorityIsGrantedByRlimitRtprioWithoutPrivilege) {
   EXPECT_EQ(threads.at("tumbled-sim").policy, SCHED_FIFO);
   EXPECT_EQ(threads.at("tumbled-sim").priority, 5);
   EXPECT_EQ(threads.at("main").policy, SCHED_FIFO);
+}
+
+TEST(Tumbled, RealtimePriorityInAControlGroupWithoutRealTimeTimeNamesTheGroup) {
+  // cgroup v1 with real-time group scheduling: a new group has
+  // cpu.rt_runtime_us 0, and the kernel refuses SCHED_FIFO in it even to
+  // root. (Under cgroup v2 there is no such limit: nothing to test.)
+  const std::string cpu = "/sys/fs/cgroup/cpu";
+  if (!std::filesystem::exists(cpu + "/cpu.rt_runtime_us") || !may_use_fifo(5)) {
+    GTEST_SKIP() << "no cgroup v1 real-time group scheduling here, or no SCHED_FIFO for this process";
+  }
+  const std::string group = cpu + "/tumble-test-" + std::to_string(getpid());
+  std::error_code error;
+  if (!std::filesystem::create_directory(group, error)) GTEST_SKIP() << "cannot create " << group << ": " << error.message();
+  ASSERT_EQ(read_file(group + "/cpu.rt_runtime_us"), "0\n");
+  const std::string dir = make_temp_dir();
+  // The shell moves itself into the group, then becomes tumbled.
+  const CommandResult result =
+      run_command({"/bin/sh", "-c", "echo $$ > " + group + "/cgroup.procs && exec \"$0\" \"$@\"", tumbled_path(),
+                   "--listen", "127.0.0.1:0", "--port-file", dir + "/port", "--realtime-priority", "5"});
+  std::filesystem::remove(group, error);  // empty again once tumbled has exited
+  EXPECT_EQ(result.exit_code, 1) << result.err;
+  EXPECT_NE(result.err.find("its control group has no real-time time"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("cpu.rt_runtime_us"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/port")) << "it listened before failing";
 }
 
 TEST(Tumbled, RealtimePriorityOutsideOneTo99IsAUsageError) {
