@@ -323,16 +323,13 @@ void Publisher::update_sim_interest() {
   // One interest a period and size: every body when a stream at that
   // period wants all, else the union of the streams' filters; small
   // streams apart from large ones, so that the sim can publish them first.
-  const auto small = [](bool all_bodies, const std::vector<physics::BodyId>& bodies) {
-    return !all_bodies && bodies.size() <= sim::kEarlySnapshotBodies;
-  };
   std::vector<sim::PublishInterest> interest;
   bool sleep_events = false;
   for (const Stream& stream : streams_) {
     sleep_events = sleep_events || (stream.event_kinds & kSleepEventBits) != 0;
-    const bool stream_small = small(stream.all_bodies, stream.bodies);
+    const bool stream_small = sim::publishes_early(stream.all_bodies, stream.bodies);
     auto it = std::find_if(interest.begin(), interest.end(), [&](const sim::PublishInterest& i) {
-      return i.period_ticks == stream.period_ticks && small(i.all_bodies, i.bodies) == stream_small;
+      return i.period_ticks == stream.period_ticks && sim::publishes_early(i.all_bodies, i.bodies) == stream_small;
     });
     if (it == interest.end()) {
       interest.push_back({stream.period_ticks, stream.all_bodies, stream.bodies});

@@ -26,4 +26,11 @@ struct PublishInterest {
   std::vector<physics::BodyId> bodies;  // sorted, unique; read when !all_bodies
 };
 
+// Whether an interest (or a stream) of these bodies is one that goes early.
+// The publisher groups streams by it and the sim splits snapshots by it:
+// both must draw the line in the same place.
+inline bool publishes_early(bool all_bodies, const std::vector<physics::BodyId>& bodies) {
+  return !all_bodies && bodies.size() <= kEarlySnapshotBodies;
+}
+
 }  // namespace tumble::sim

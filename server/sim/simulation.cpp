@@ -408,7 +408,7 @@ Simulation::Due Simulation::publish_due() {
     }
     wanted_.insert(wanted_.end(), interest.bodies.begin(), interest.bodies.end());
     ++due;
-    if (interest.bodies.size() <= kEarlySnapshotBodies) {
+    if (publishes_early(interest.all_bodies, interest.bodies)) {
       early_.insert(early_.end(), interest.bodies.begin(), interest.bodies.end());
       ++early;
     }
