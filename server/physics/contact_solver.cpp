@@ -20,31 +20,49 @@ void tangent_basis(const Vec3& n, Vec3* t1, Vec3* t2) {
 
 }  // namespace
 
+namespace {
+constexpr std::uint32_t kNone = 0xffffffff;
+}  // namespace
+
+std::uint32_t ContactSolver::island_root(std::uint32_t body) {
+  // Union-find with path halving.
+  while (parent_[body] != body) {
+    parent_[body] = parent_[parent_[body]];
+    body = parent_[body];
+  }
+  return body;
+}
+
 void ContactSolver::touch(std::uint32_t body) {
-  if (is_touched_[body]) return;
+  if (bodies_.inverse_mass[body] == 0 || is_touched_[body]) return;
   is_touched_[body] = 1;
   motion_[body] = Motion{};
   touched_.push_back(body);
 }
 
-void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const ContactLink> links,
-                            std::span<const std::uint32_t> active,
-                            const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
+void ContactSolver::prepare(std::span<Contact> contacts, std::span<const ContactLink> links,
+                            std::span<const std::uint32_t> active, const ContactSolverBodies& bodies, double dt,
                             const ContactSolverSettings& settings) {
   for (std::uint32_t body : touched_) is_touched_[body] = 0;
   touched_.clear();
-  constraints_.clear();
-  points_.clear();
-  if (motion_.size() < velocities.size()) {
-    motion_.resize(velocities.size());
-    is_touched_.resize(velocities.size(), 0);
+  constraint_count_ = 0;
+  point_count_ = 0;
+  islands_.clear();
+  island_order_.clear();
+  pending_.clear();
+  const std::size_t body_count = bodies.inverse_mass.size();
+  if (motion_.size() < body_count) {
+    motion_.resize(body_count);
+    is_touched_.resize(body_count, 0);
+    parent_.resize(body_count, kNone);
+    island_of_root_.resize(body_count, kNone);
   }
+  contacts_ = contacts;
+  bodies_ = bodies;
   settings_ = settings;
   settings_.substeps = std::max(settings_.substeps, 1);
   settings_.iterations = std::max(settings_.iterations, 1);
   settings_.relax_iterations = std::max(settings_.relax_iterations, 0);
-  external_change_ = bodies.external_change;
-  inverse_mass_ = bodies.inverse_mass;
   dt_ = dt;
   h_ = dt / settings_.substeps;
 
@@ -69,93 +87,181 @@ void ContactSolver::prepare(std::span<const Contact> contacts, std::span<const C
   soft_ = make_soft(hertz);
   static_soft_ = make_soft(2.0 * hertz);
 
+  // The contacts with points, and the islands their dynamic bodies form.
+  auto dynamic = [&](std::uint32_t body) { return bodies.inverse_mass[body] != 0; };
   for (std::uint32_t index : active) {
-    const Contact& contact = contacts[index];
-    const Manifold& m = contact.manifold;
-    if (m.point_count == 0) continue;
-    Constraint c;
-    c.body_a = links[index].body_a;
-    c.body_b = links[index].body_b;
-    c.contact = index;
-    c.first_point = static_cast<std::uint32_t>(points_.size());
-    c.point_count = static_cast<std::uint32_t>(m.point_count);
-    c.inverse_mass_a = bodies.inverse_mass[c.body_a];
-    c.inverse_mass_b = bodies.inverse_mass[c.body_b];
-    c.against_infinite_mass = c.inverse_mass_a == 0 || c.inverse_mass_b == 0;
-    // Mixing rules: friction is the geometric mean, so a frictionless body
-    // slides on anything; restitution the maximum, so a bouncy body bounces
-    // on anything (as Box2D).
-    c.friction = std::sqrt(bodies.friction[c.body_a] * bodies.friction[c.body_b]);
-    c.restitution = std::max(bodies.restitution[c.body_a], bodies.restitution[c.body_b]);
-    c.normal = m.normal;
-    // Friction directions: the first along the sliding velocity at the
-    // manifold's centre when there is one, so a sliding body's friction
-    // stays opposite to its motion; otherwise a fixed basis.
-    {
-      Vec3 center = Vec3::Zero();
-      for (int k = 0; k < m.point_count; ++k) center += m.points[k].point_a + m.points[k].point_b;
-      center /= 2.0 * m.point_count;
-      const SolverVelocity& sa = velocities[c.body_a];
-      const SolverVelocity& sb = velocities[c.body_b];
-      Vec3 slip = sb.linear + sb.angular.cross(center - bodies.transforms[c.body_b].position) - sa.linear -
-                  sa.angular.cross(center - bodies.transforms[c.body_a].position);
-      slip -= slip.dot(c.normal) * c.normal;
-      const double slip_speed = slip.norm();
-      if (slip_speed > 1e-3) {
-        c.tangent1 = slip / slip_speed;
-        c.tangent2 = c.normal.cross(c.tangent1);
-      } else {
-        tangent_basis(c.normal, &c.tangent1, &c.tangent2);
+    if (contacts[index].manifold.point_count == 0) continue;
+    pending_.push_back(index);
+    const std::uint32_t a = links[index].body_a, b = links[index].body_b;
+    if (dynamic(a) && parent_[a] == kNone) parent_[a] = a;
+    if (dynamic(b) && parent_[b] == kNone) parent_[b] = b;
+    if (dynamic(a) && dynamic(b)) {
+      const std::uint32_t root_a = island_root(a), root_b = island_root(b);
+      // The smaller index becomes the root, so the forest's shape depends
+      // only on the order of the contacts.
+      if (root_a < root_b) parent_[root_b] = root_a;
+      if (root_b < root_a) parent_[root_a] = root_b;
+    }
+  }
+  if (pending_.empty()) return;
+
+  // Islands numbered in the order their first contact comes in active; a
+  // contact between two bodies of infinite mass (which moves nothing) is an
+  // island of its own.
+  island_of_pending_.resize(pending_.size());
+  for (std::size_t k = 0; k < pending_.size(); ++k) {
+    const std::uint32_t index = pending_[k];
+    const std::uint32_t a = links[index].body_a, b = links[index].body_b;
+    std::uint32_t island = kNone;
+    if (dynamic(a) || dynamic(b)) {
+      const std::uint32_t root = island_root(dynamic(a) ? a : b);
+      if (island_of_root_[root] == kNone) {
+        island_of_root_[root] = static_cast<std::uint32_t>(islands_.size());
+        islands_.emplace_back();
       }
+      island = island_of_root_[root];
+    } else {
+      island = static_cast<std::uint32_t>(islands_.size());
+      islands_.emplace_back();
     }
+    island_of_pending_[k] = island;
+    ++islands_[island].constraint_count;
+    islands_[island].point_count += static_cast<std::uint32_t>(contacts[index].manifold.point_count);
+  }
+  std::uint32_t first = 0, first_point = 0;
+  for (Island& island : islands_) {
+    island.first_constraint = first;
+    first += island.constraint_count;
+    first_point += island.point_count;
+    island.constraint_count = 0;  // counts again as the constraints are placed
+  }
+  // Grown, never shrunk: the slots of a step are all written below and in
+  // build_rows(), so they need no clearing.
+  constraint_count_ = pending_.size();
+  point_count_ = first_point;
+  if (constraints_.size() < constraint_count_) constraints_.resize(constraint_count_);
+  if (points_.size() < point_count_) points_.resize(point_count_);
 
-    const Mat3& inertia_a = bodies.inverse_inertia[c.body_a];
-    const Mat3& inertia_b = bodies.inverse_inertia[c.body_b];
-    const Vec3& xa = bodies.transforms[c.body_a].position;
-    const Vec3& xb = bodies.transforms[c.body_b].position;
-    const SolverVelocity& va = velocities[c.body_a];
-    const SolverVelocity& vb = velocities[c.body_b];
-    const double inverse_mass_sum = c.inverse_mass_a + c.inverse_mass_b;
-
-    for (int k = 0; k < m.point_count; ++k) {
-      const ManifoldPoint& mp = m.points[k];
-      const Vec3 point = 0.5 * (mp.point_a + mp.point_b);
-      const Vec3 ra = point - xa;
-      const Vec3 rb = point - xb;
-      Point p;
-      auto make_row = [&](Row& row, const Vec3& d, double impulse) {
-        row.jacobian_a = ra.cross(d);
-        row.jacobian_b = rb.cross(d);
-        row.response_a = inertia_a * row.jacobian_a;
-        row.response_b = inertia_b * row.jacobian_b;
-        const double k_row = inverse_mass_sum + row.jacobian_a.dot(row.response_a) + row.jacobian_b.dot(row.response_b);
-        row.mass = k_row > 0 ? 1.0 / k_row : 0.0;
-        row.impulse = impulse;
-      };
-      const Vec3& friction_impulse = contact.tangent_impulse[k];
-      make_row(p.normal, c.normal, contact.normal_impulse[k]);
-      make_row(p.tangent1, c.tangent1, friction_impulse.dot(c.tangent1));
-      make_row(p.tangent2, c.tangent2, friction_impulse.dot(c.tangent2));
-      p.separation = mp.separation;
-      p.relative_velocity = c.normal.dot(vb.linear - va.linear) + p.normal.jacobian_b.dot(vb.angular) -
-                            p.normal.jacobian_a.dot(va.angular);
-      points_.push_back(p);
+  // Constraints island by island, each island's in active order.
+  for (std::size_t k = 0; k < pending_.size(); ++k) {
+    Island& island = islands_[island_of_pending_[k]];
+    Constraint& c = constraints_[island.first_constraint + island.constraint_count++];
+    c.contact = pending_[k];
+    c.body_a = links[c.contact].body_a;
+    c.body_b = links[c.contact].body_b;
+    c.point_count = static_cast<std::uint32_t>(contacts[c.contact].manifold.point_count);
+  }
+  first_point = 0;
+  for (Island& island : islands_) {
+    island.first_body = static_cast<std::uint32_t>(touched_.size());
+    for (std::uint32_t k = 0; k < island.constraint_count; ++k) {
+      Constraint& c = constraints_[island.first_constraint + k];
+      c.first_point = first_point;
+      first_point += c.point_count;
+      touch(c.body_a);
+      touch(c.body_b);
     }
-    touch(c.body_a);
-    touch(c.body_b);
-    constraints_.push_back(c);
+    island.body_count = static_cast<std::uint32_t>(touched_.size()) - island.first_body;
+  }
+
+  // The forest is cleared for the next step through the bodies it holds.
+  for (std::uint32_t body : touched_) {
+    island_of_root_[body] = kNone;
+    parent_[body] = kNone;
+  }
+
+  // Largest islands first, so the last task to start is a small one.
+  island_order_.resize(islands_.size());
+  for (std::uint32_t i = 0; i < island_order_.size(); ++i) island_order_[i] = i;
+  std::sort(island_order_.begin(), island_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return islands_[x].point_count != islands_[y].point_count ? islands_[x].point_count > islands_[y].point_count
+                                                              : x < y;
+  });
+}
+
+void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> velocities) {
+  const Contact& contact = contacts_[c.contact];
+  const Manifold& m = contact.manifold;
+  const ContactSolverBodies& bodies = bodies_;
+  c.inverse_mass_a = bodies.inverse_mass[c.body_a];
+  c.inverse_mass_b = bodies.inverse_mass[c.body_b];
+  c.against_infinite_mass = c.inverse_mass_a == 0 || c.inverse_mass_b == 0;
+  // Mixing rules: friction is the geometric mean, so a frictionless body
+  // slides on anything; restitution the maximum, so a bouncy body bounces
+  // on anything (as Box2D).
+  c.friction = std::sqrt(bodies.friction[c.body_a] * bodies.friction[c.body_b]);
+  c.restitution = std::max(bodies.restitution[c.body_a], bodies.restitution[c.body_b]);
+  c.normal = m.normal;
+  const SolverVelocity& va = velocities[c.body_a];
+  const SolverVelocity& vb = velocities[c.body_b];
+  const Vec3& xa = bodies.transforms[c.body_a].position;
+  const Vec3& xb = bodies.transforms[c.body_b].position;
+  // Friction directions: the first along the sliding velocity at the
+  // manifold's centre when there is one, so a sliding body's friction stays
+  // opposite to its motion; otherwise a fixed basis.
+  {
+    Vec3 center = Vec3::Zero();
+    for (int k = 0; k < m.point_count; ++k) center += m.points[k].point_a + m.points[k].point_b;
+    center /= 2.0 * m.point_count;
+    Vec3 slip = vb.linear + vb.angular.cross(center - xb) - va.linear - va.angular.cross(center - xa);
+    slip -= slip.dot(c.normal) * c.normal;
+    const double slip_speed = slip.norm();
+    if (slip_speed > 1e-3) {
+      c.tangent1 = slip / slip_speed;
+      c.tangent2 = c.normal.cross(c.tangent1);
+    } else {
+      tangent_basis(c.normal, &c.tangent1, &c.tangent2);
+    }
+  }
+
+  const Mat3& inertia_a = bodies.inverse_inertia[c.body_a];
+  const Mat3& inertia_b = bodies.inverse_inertia[c.body_b];
+  const double inverse_mass_sum = c.inverse_mass_a + c.inverse_mass_b;
+  for (int k = 0; k < m.point_count; ++k) {
+    const ManifoldPoint& mp = m.points[k];
+    const Vec3 point = 0.5 * (mp.point_a + mp.point_b);
+    const Vec3 ra = point - xa;
+    const Vec3 rb = point - xb;
+    Point& p = points_[c.first_point + static_cast<std::uint32_t>(k)];
+    auto make_row = [&](Row& row, const Vec3& d, double impulse) {
+      row.jacobian_a = ra.cross(d);
+      row.jacobian_b = rb.cross(d);
+      row.response_a = inertia_a * row.jacobian_a;
+      row.response_b = inertia_b * row.jacobian_b;
+      const double k_row = inverse_mass_sum + row.jacobian_a.dot(row.response_a) + row.jacobian_b.dot(row.response_b);
+      row.mass = k_row > 0 ? 1.0 / k_row : 0.0;
+      row.impulse = impulse;
+    };
+    const Vec3& friction_impulse = contact.tangent_impulse[k];
+    make_row(p.normal, c.normal, contact.normal_impulse[k]);
+    make_row(p.tangent1, c.tangent1, friction_impulse.dot(c.tangent1));
+    make_row(p.tangent2, c.tangent2, friction_impulse.dot(c.tangent2));
+    p.separation = mp.separation;
+    p.relative_velocity = c.normal.dot(vb.linear - va.linear) + p.normal.jacobian_b.dot(vb.angular) -
+                          p.normal.jacobian_a.dot(va.angular);
+    p.max_normal_impulse = 0;
   }
 }
 
 void ContactSolver::reserve(std::size_t constraints) {
   constraints_.reserve(constraints);
   points_.reserve(kMaxManifoldPoints * constraints);
+  pending_.reserve(constraints);
+  island_of_pending_.reserve(constraints);
+  islands_.reserve(constraints);
+  island_order_.reserve(constraints);
 }
 
-void ContactSolver::warm_start(std::span<SolverVelocity> velocities) const {
-  for (const Constraint& c : constraints_) {
-    SolverVelocity& a = velocities[c.body_a];
-    SolverVelocity& b = velocities[c.body_b];
+ContactSolver::Motion ContactSolver::motion_of(std::uint32_t body, const SolverVelocity& velocity,
+                                               double elapsed) const {
+  if (bodies_.inverse_mass[body] != 0) return motion_[body];
+  return Motion{elapsed * velocity.linear, elapsed * velocity.angular};
+}
+
+void ContactSolver::warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const {
+  for (const Constraint& c : island.constraints) {
+    SolverVelocity a = velocities[c.body_a];
+    SolverVelocity b = velocities[c.body_b];
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
       const Point& p = points_[c.first_point + k];
       const Vec3 impulse =
@@ -167,18 +273,20 @@ void ContactSolver::warm_start(std::span<SolverVelocity> velocities) const {
       b.angular += p.normal.impulse * p.normal.response_b + p.tangent1.impulse * p.tangent1.response_b +
                    p.tangent2.impulse * p.tangent2.response_b;
     }
+    // A body of infinite mass is shared by islands and never written.
+    if (c.inverse_mass_a != 0) velocities[c.body_a] = a;
+    if (c.inverse_mass_b != 0) velocities[c.body_b] = b;
   }
 }
 
-void ContactSolver::solve_pass(std::span<SolverVelocity> velocities, bool soft) {
+void ContactSolver::solve_pass(const IslandView& island, std::span<SolverVelocity> velocities, bool soft) {
   const double inv_h = 1.0 / h_;
-  for (const Constraint& c : constraints_) {
-    // Work on local copies; bodies of inverse mass 0 are written back
-    // unchanged.
+  for (const Constraint& c : island.constraints) {
+    // Work on local copies; bodies of inverse mass 0 are not written back.
     Vec3 va = velocities[c.body_a].linear, wa = velocities[c.body_a].angular;
     Vec3 vb = velocities[c.body_b].linear, wb = velocities[c.body_b].angular;
-    const Motion& ma = motion_[c.body_a];
-    const Motion& mb = motion_[c.body_b];
+    const Motion ma = motion_of(c.body_a, velocities[c.body_a], island.elapsed);
+    const Motion mb = motion_of(c.body_b, velocities[c.body_b], island.elapsed);
     const double moved = c.normal.dot(mb.displacement - ma.displacement);
     const Softness& softness = c.against_infinite_mass ? static_soft_ : soft_;
     Point* points = points_.data() + c.first_point;
@@ -234,47 +342,61 @@ void ContactSolver::solve_pass(std::span<SolverVelocity> velocities, bool soft) 
       wb += d1 * p.tangent1.response_b + d2 * p.tangent2.response_b;
     }
 
-    velocities[c.body_a] = {va, wa};
-    velocities[c.body_b] = {vb, wb};
+    if (c.inverse_mass_a != 0) velocities[c.body_a] = {va, wa};
+    if (c.inverse_mass_b != 0) velocities[c.body_b] = {vb, wb};
   }
 }
 
-void ContactSolver::integrate_motion(std::span<const SolverVelocity> velocities) {
-  for (std::uint32_t body : touched_) {
+void ContactSolver::integrate_motion(const IslandView& island, std::span<const SolverVelocity> velocities) {
+  for (std::uint32_t body : island.bodies) {
     Motion& m = motion_[body];
     m.displacement += h_ * velocities[body].linear;
     m.rotation += h_ * velocities[body].angular;
   }
 }
 
-void ContactSolver::solve(std::span<SolverVelocity> velocities) {
+void ContactSolver::solve(std::span<SolverVelocity> velocities, WorkerTeam* team) {
+  auto task = [&](std::size_t k) { solve_island(islands_[island_order_[k]], velocities); };
+  if (team != nullptr) {
+    team->for_each(island_order_.size(), task);
+  } else {
+    for (std::size_t k = 0; k < island_order_.size(); ++k) task(k);
+  }
+}
+
+void ContactSolver::solve_island(const Island& island, std::span<SolverVelocity> velocities) {
+  IslandView view{{constraints_.data() + island.first_constraint, island.constraint_count},
+                  {touched_.data() + island.first_body, island.body_count},
+                  0.0};
+  for (Constraint& c : view.constraints) build_rows(c, velocities);
+
   // The caller added the whole step's external change; the substeps add it
   // a share at a time instead.
   const double share = 1.0 / settings_.substeps;
-  for (std::uint32_t body : touched_) {
-    if (inverse_mass_[body] == 0) continue;
-    velocities[body].linear -= external_change_[body].linear;
-    velocities[body].angular -= external_change_[body].angular;
+  for (std::uint32_t body : view.bodies) {
+    velocities[body].linear -= bodies_.external_change[body].linear;
+    velocities[body].angular -= bodies_.external_change[body].angular;
   }
   for (int substep = 0; substep < settings_.substeps; ++substep) {
-    for (std::uint32_t body : touched_) {
-      if (inverse_mass_[body] == 0) continue;
-      velocities[body].linear += share * external_change_[body].linear;
-      velocities[body].angular += share * external_change_[body].angular;
+    for (std::uint32_t body : view.bodies) {
+      velocities[body].linear += share * bodies_.external_change[body].linear;
+      velocities[body].angular += share * bodies_.external_change[body].angular;
     }
-    warm_start(velocities);
-    for (int i = 0; i < settings_.iterations; ++i) solve_pass(velocities, true);
-    integrate_motion(velocities);
-    for (int i = 0; i < settings_.relax_iterations; ++i) solve_pass(velocities, false);
+    warm_start(view, velocities);
+    for (int i = 0; i < settings_.iterations; ++i) solve_pass(view, velocities, true);
+    integrate_motion(view, velocities);
+    view.elapsed += h_;
+    for (int i = 0; i < settings_.relax_iterations; ++i) solve_pass(view, velocities, false);
   }
-  apply_restitution(velocities);
+  apply_restitution(view, velocities);
+  store_impulses(view);
 }
 
-void ContactSolver::apply_restitution(std::span<SolverVelocity> velocities) {
-  for (const Constraint& c : constraints_) {
+void ContactSolver::apply_restitution(const IslandView& island, std::span<SolverVelocity> velocities) {
+  for (const Constraint& c : island.constraints) {
     if (c.restitution == 0) continue;
-    SolverVelocity& a = velocities[c.body_a];
-    SolverVelocity& b = velocities[c.body_b];
+    SolverVelocity a = velocities[c.body_a];
+    SolverVelocity b = velocities[c.body_b];
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
       Point& p = points_[c.first_point + k];
       if (p.relative_velocity > -settings_.restitution_threshold || p.max_normal_impulse == 0) continue;
@@ -290,12 +412,14 @@ void ContactSolver::apply_restitution(std::span<SolverVelocity> velocities) {
       b.linear += (c.inverse_mass_b * d) * c.normal;
       b.angular += d * p.normal.response_b;
     }
+    if (c.inverse_mass_a != 0) velocities[c.body_a] = a;
+    if (c.inverse_mass_b != 0) velocities[c.body_b] = b;
   }
 }
 
-void ContactSolver::store_impulses(std::span<Contact> contacts) const {
-  for (const Constraint& c : constraints_) {
-    Contact& contact = contacts[c.contact];
+void ContactSolver::store_impulses(const IslandView& island) const {
+  for (const Constraint& c : island.constraints) {
+    Contact& contact = contacts_[c.contact];
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
       const Point& p = points_[c.first_point + k];
       contact.normal_impulse[k] = p.normal.impulse;

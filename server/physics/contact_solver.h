@@ -41,7 +41,18 @@
 // adds to its usual pose update (split-impulse style), so positions follow
 // the substeps while the momenta keep only the relaxed velocities.
 //
-// Not thread-safe. Arrays are reused; no allocation once warmed up.
+// Islands: the constraints are grouped by the dynamic bodies they connect
+// (static and kinematic bodies, which no constraint moves, do not join
+// islands), and each island is solved on its own, start to end, as one task
+// of a WorkerTeam. No two islands write the same body or contact, so the
+// islands may run on several threads at once; each island's arithmetic is the
+// same whichever thread runs it and however many there are, so results do not
+// depend on the thread count. A constraint's rows are built in its island's
+// task too.
+//
+// Thread: prepare() and solve() from the World's thread; solve() runs
+// islands on the team's threads and returns when all are done. Arrays are
+// reused; no allocation once warmed up.
 #pragma once
 
 #include <cstdint>
@@ -51,6 +62,7 @@
 #include "physics/contact.h"
 #include "physics/math.h"
 #include "physics/transform.h"
+#include "physics/worker_team.h"
 
 namespace tumble::physics {
 
@@ -83,30 +95,31 @@ struct ContactSolverBodies {
 
 class ContactSolver {
  public:
-  // Builds constraints for the contacts listed in active that have points;
-  // links[k] names the bodies of contacts[k].
-  // velocities holds every body's velocity at the end of the step before
-  // contacts (the external change already added).
-  void prepare(std::span<const Contact> contacts, std::span<const ContactLink> links,
-               std::span<const std::uint32_t> active,
-               const ContactSolverBodies& bodies, std::span<const SolverVelocity> velocities, double dt,
-               const ContactSolverSettings& settings);
+  // Lists a constraint for each contact in active that has points
+  // (links[k] names the bodies of contacts[k]) and groups them into islands.
+  // contacts and bodies must stay unchanged until solve() returns; solve()
+  // writes the contacts' impulses.
+  void prepare(std::span<Contact> contacts, std::span<const ContactLink> links, std::span<const std::uint32_t> active,
+               const ContactSolverBodies& bodies, double dt, const ContactSolverSettings& settings);
   // Room for this many constraints and four points each, reserved (not
   // written) ahead of need, so a step whose contacts multiply does not copy
   // the rows it has built so far.
   void reserve(std::size_t constraints);
-  // Runs the substeps, relax passes and restitution on velocities.
-  void solve(std::span<SolverVelocity> velocities);
-  void store_impulses(std::span<Contact> contacts) const;
+  // Solves each island on team's threads (on the caller's alone when team
+  // is null): builds its rows, runs the substeps, relax passes and
+  // restitution on velocities, and stores the impulses in the contacts for
+  // the next step's warm start. velocities holds every body's velocity at
+  // the end of the step before contacts (the external change already added).
+  void solve(std::span<SolverVelocity> velocities, WorkerTeam* team);
 
-  // Bodies in at least one constraint this step, in first-use order
-  // (static and kinematic ones included).
+  // Dynamic bodies in at least one constraint this step, island by island.
   std::span<const std::uint32_t> touched_bodies() const { return touched_; }
   // For a touched body after solve(): (displacement of the substeps - v dt)
   // / dt and the same for rotation, where v and w are the final velocities.
   SolverVelocity pseudo_velocity(std::uint32_t body, const SolverVelocity& final_velocity) const;
-  std::size_t constraint_count() const { return constraints_.size(); }
-  std::size_t point_count() const { return points_.size(); }
+  std::size_t constraint_count() const { return constraint_count_; }
+  std::size_t point_count() const { return point_count_; }
+  std::size_t island_count() const { return islands_.size(); }
 
  private:
   // One row: a direction d at one point, with its angular Jacobians and
@@ -154,19 +167,54 @@ class ContactSolver {
     double impulse_scale = 0;
   };
 
-  void touch(std::uint32_t body);
-  void warm_start(std::span<SolverVelocity> velocities) const;
-  void solve_pass(std::span<SolverVelocity> velocities, bool soft);
-  void integrate_motion(std::span<const SolverVelocity> velocities);
-  void apply_restitution(std::span<SolverVelocity> velocities);
+  // Constraints [first_constraint, + constraint_count) and dynamic bodies
+  // touched_[first_body, + body_count) that no other island shares.
+  struct Island {
+    std::uint32_t first_constraint = 0;
+    std::uint32_t constraint_count = 0;
+    std::uint32_t first_body = 0;
+    std::uint32_t body_count = 0;
+    std::uint32_t point_count = 0;
+  };
+  // The constraints of one island, and a body's motion within the substeps
+  // so far: a dynamic body's is tracked in motion_; a static or kinematic
+  // body, whose velocity no constraint changes, has moved elapsed v.
+  struct IslandView {
+    std::span<Constraint> constraints;
+    std::span<const std::uint32_t> bodies;
+    double elapsed = 0;  // s of substeps integrated
+  };
 
+  std::uint32_t island_root(std::uint32_t body);
+  void touch(std::uint32_t body);
+  void solve_island(const Island& island, std::span<SolverVelocity> velocities);
+  void build_rows(Constraint& c, std::span<const SolverVelocity> velocities);
+  Motion motion_of(std::uint32_t body, const SolverVelocity& velocity, double elapsed) const;
+  void warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const;
+  void solve_pass(const IslandView& island, std::span<SolverVelocity> velocities, bool soft);
+  void integrate_motion(const IslandView& island, std::span<const SolverVelocity> velocities);
+  void apply_restitution(const IslandView& island, std::span<SolverVelocity> velocities);
+  void store_impulses(const IslandView& island) const;
+
+  // This step's constraints, island by island, and their points: the first
+  // constraint_count_ and point_count_ entries (the vectors only grow).
   std::vector<Constraint> constraints_;
   std::vector<Point> points_;
+  std::size_t constraint_count_ = 0;
+  std::size_t point_count_ = 0;
+  std::vector<Island> islands_;
+  std::vector<std::uint32_t> island_order_;  // islands by falling point count: the order tasks start
   std::vector<Motion> motion_;
   std::vector<std::uint8_t> is_touched_;
   std::vector<std::uint32_t> touched_;
-  std::span<const SolverVelocity> external_change_;
-  std::span<const double> inverse_mass_;
+  // Scratch of prepare(): the contacts with points in active order, a
+  // union-find forest over dynamic bodies and each root's island.
+  std::vector<std::uint32_t> pending_;
+  std::vector<std::uint32_t> parent_;
+  std::vector<std::uint32_t> island_of_root_;
+  std::vector<std::uint32_t> island_of_pending_;
+  std::span<Contact> contacts_;
+  ContactSolverBodies bodies_;
   ContactSolverSettings settings_;
   double dt_ = 0;
   double h_ = 0;  // substep

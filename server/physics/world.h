@@ -31,15 +31,19 @@
 // inertia and momenta of static and kinematic bodies read as zero.
 //
 // Deterministic: the same sequence of calls gives bit-identical results
-// (no unordered containers, no pointer-keyed ordering, no threads).
+// (no unordered containers, no pointer-keyed ordering), whatever the thread
+// count.
 //
-// Not thread-safe: one thread owns a World. Accessors that take a BodyId
+// Threads: step() may solve the contact islands on helper threads
+// (set_thread_count, worker_team.h); it returns when they are done. Not
+// thread-safe otherwise: one thread owns a World. Accessors that take a BodyId
 // require a valid one (contains(id)); that is asserted, not reported.
 // step() does not allocate once the arrays have grown to the scene.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "physics/aabb.h"
@@ -51,6 +55,7 @@
 #include "physics/math.h"
 #include "physics/shape.h"
 #include "physics/transform.h"
+#include "physics/worker_team.h"
 
 namespace tumble::physics {
 
@@ -107,6 +112,7 @@ struct StepStats {
   std::size_t manifolds_computed = 0;   // of those, recomputed from the shapes
   std::size_t solved_contacts = 0;      // manifolds with points given to the solver
   std::size_t solved_points = 0;        // their points
+  std::size_t islands = 0;              // groups of those that share no dynamic body, solved apart
 };
 
 class World {
@@ -120,6 +126,13 @@ class World {
 
   void set_settings(const WorldSettings& settings);
   const WorldSettings& settings() const { return settings_; }
+
+  // Threads step() solves contact islands on, the caller included (1, the
+  // default: the caller alone). Each island is solved the same way on any
+  // thread, so the results are bit-identical for every count. Starts or
+  // stops helper threads, which sleep between steps.
+  void set_thread_count(int threads);
+  int thread_count() const { return team_ ? team_->thread_count() : 1; }
 
   // Creates a body and returns its new id. A dynamic body requires mass > 0
   // and a symmetric positive-definite inertia (asserted). The orientation is
@@ -325,6 +338,9 @@ class World {
   std::uint64_t contact_pass_ = 0;  // counts update_contacts() calls; see ContactLink::updated_pass
 
   ContactSolver solver_;
+  // Helper threads, made by the first set_thread_count above 1; behind a
+  // pointer so the World stays movable while the helpers keep their team.
+  std::unique_ptr<WorkerTeam> team_;
 
   // Island search scratch.
   std::vector<std::uint32_t> island_stack_;

@@ -65,6 +65,11 @@ void World::integrate_velocities(double dt) {
   }
 }
 
+void World::set_thread_count(int threads) {
+  if (threads > 1 && !team_) team_ = std::make_unique<WorkerTeam>();
+  if (team_) team_->set_thread_count(threads);
+}
+
 void World::solve_contacts(double dt) {
   ContactSolverSettings solver_settings;
   solver_settings.substeps = settings_.substeps > 0 ? settings_.substeps : substeps_for(dt);
@@ -77,13 +82,13 @@ void World::solve_contacts(double dt) {
   solver_settings.max_push_speed = settings_.max_push_speed;
   solver_settings.restitution_threshold = settings_.restitution_threshold;
   const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_, frictions_, restitutions_, external_};
-  solver_.prepare(contacts_, links_, active_, bodies, velocities_, dt, solver_settings);
+  solver_.prepare(contacts_, links_, active_, bodies, dt, solver_settings);
   stats_.solved_contacts = solver_.constraint_count();
   stats_.solved_points = solver_.point_count();
+  stats_.islands = solver_.island_count();
   if (solver_.constraint_count() == 0) return;
 
-  solver_.solve(velocities_);
-  solver_.store_impulses(contacts_);
+  solver_.solve(velocities_, team_.get());
 
   // Back to Baraff's state: P = M v and L = I w with I = R I_body R^T.
   for (std::uint32_t i : solver_.touched_bodies()) {

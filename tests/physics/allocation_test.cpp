@@ -194,5 +194,27 @@ TEST(AllocationTest, SteppingAWarmPileAllocatesNothing) {
   EXPECT_GT(scene.world.sleeping_body_count(), 20u);
 }
 
+// The same on three threads: the helpers take islands of the pile and of
+// the ball without allocating either.
+TEST(AllocationTest, SteppingAWarmPileOnThreeThreadsAllocatesNothing) {
+  PileScene scene;
+  scene.world.set_thread_count(3);
+  int sleeping = 0, awake = 0;
+  for (int i = 0; i < 600; ++i) scene.world.step(kTick);
+  scene.cycle(&sleeping, &awake);
+  ASSERT_GT(sleeping, 0) << "the pile never fell asleep in the warm-up";
+
+  sleeping = awake = 0;
+  std::size_t allocations = 0;
+  {
+    AllocationCounter counter;
+    scene.cycle(&sleeping, &awake);
+    allocations = counter.count();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(awake, 0);
+  EXPECT_GT(sleeping, 0);
+}
+
 }  // namespace
 }  // namespace tumble::physics

@@ -1,7 +1,8 @@
 // Same calls, same results: two fresh worlds fed the same sequence give
-// bit-identical poses.
+// bit-identical poses, whatever the number of threads that solve them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -20,9 +21,11 @@ using testing::sphere_body;
 
 // 100 bodies (boxes, and spheres every seventh) dropped in a loose block
 // with varied orientations, then 10 s of simulation, with a push and a
-// removal on the way. Returns the hash after every second.
-std::vector<std::uint64_t> run_pile() {
+// removal on the way, solved on `threads` threads. Returns the hash after
+// every second; most_islands is the most islands a step solved.
+std::vector<std::uint64_t> run_pile(int threads = 1, std::size_t* most_islands = nullptr) {
   World world;
+  world.set_thread_count(threads);
   world.add_body(ground_plane());
   std::vector<BodyId> ids;
   for (int i = 0; i < 100; ++i) {
@@ -37,6 +40,7 @@ std::vector<std::uint64_t> run_pile() {
     if (i == 600) world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
     if (i == 900) world.remove_body(ids[17]);
     world.step(kTick);
+    if (most_islands != nullptr) *most_islands = std::max(*most_islands, world.last_step_stats().islands);
     if ((i + 1) % 240 == 0) hashes.push_back(state_hash(world));
   }
   return hashes;
@@ -49,6 +53,34 @@ TEST(DeterminismTest, TwoRunsAreBitIdentical) {
   EXPECT_EQ(first, second);
   // The pile did move: the hashes change from second to second early on.
   EXPECT_NE(first[0], first[1]);
+}
+
+// Islands solved on helper threads give the bits of one thread: each island
+// is solved the same way whichever thread takes it.
+TEST(DeterminismTest, ThreadCountDoesNotChangeTheResults) {
+  std::size_t most_islands = 0;
+  const std::vector<std::uint64_t> one = run_pile(1, &most_islands);
+  // The pile breaks into islands that the helpers can share.
+  ASSERT_GT(most_islands, 4u);
+  for (int threads : {2, 3, 8}) {
+    EXPECT_EQ(run_pile(threads), one) << threads << " threads";
+  }
+}
+
+// The count may change between steps.
+TEST(DeterminismTest, ChangingTheThreadCountMidRunChangesNothing) {
+  World reference, changing;
+  for (World* world : {&reference, &changing}) {
+    world->add_body(ground_plane());
+    for (int i = 0; i < 40; ++i) world->add_body(box_body(Vec3(1.5 * (i % 8), 0.6 + 0.2 * (i % 3), 1.5 * (i / 8)), 0.5));
+  }
+  for (int i = 0; i < 480; ++i) {
+    if (i % 60 == 0) changing.set_thread_count(1 + (i / 60) % 3);
+    reference.step(kTick);
+    changing.step(kTick);
+  }
+  EXPECT_EQ(state_hash(changing), state_hash(reference));
+  EXPECT_EQ(changing.thread_count(), 2);
 }
 
 }  // namespace

@@ -188,5 +188,41 @@ TEST(SleepingTest, FreeBodiesDoNotSleep) {
   EXPECT_NEAR(world.position(box).x(), 0.003, 1e-12);
 }
 
+// The solver's islands are the same: bodies joined by touching contacts,
+// never through a static body. Three columns of three boxes are three
+// islands; a dynamic plank across two joins them; a static plank across two
+// does not.
+TEST(SleepingTest, SolverIslandsJoinThroughDynamicBodiesOnly) {
+  World world;
+  world.set_settings([] {
+    WorldSettings settings;
+    settings.sleep_enabled = false;
+    return settings;
+  }());
+  world.add_body(ground_plane());
+  for (double x : {0.0, 3.0, 6.0}) {
+    for (int k = 0; k < 3; ++k) world.add_body(box_body(Vec3(x, 0.5 + k, 0.0)));
+  }
+  for (int i = 0; i < 5; ++i) world.step(kTick);
+  EXPECT_EQ(world.last_step_stats().islands, 3u);
+  EXPECT_EQ(world.last_step_stats().solved_contacts, 9u);
+
+  // x from 0.1 to 2.9: on the tops of columns 0 and 1.
+  BodyDesc plank = box_body(Vec3(1.5, 3.25, 0.0));
+  plank.shape = box_shape(Vec3(1.4, 0.25, 0.5));
+  plank.mass_properties = box_mass_properties(1.0, plank.shape.half_extents);
+  world.add_body(plank);
+  // x from 3.1 to 5.9: on the tops of columns 1 and 2.
+  BodyDesc bridge = plank;
+  bridge.position = Vec3(4.5, 3.25, 0.0);
+  bridge.motion_type = MotionType::static_body;
+  world.add_body(bridge);
+  for (int i = 0; i < 5; ++i) world.step(kTick);
+  // The plank rests on columns 0 and 1; the static bridge touches the tops
+  // of columns 1 and 2 and joins nothing.
+  EXPECT_EQ(world.last_step_stats().islands, 2u);
+  EXPECT_EQ(world.last_step_stats().solved_contacts, 13u);
+}
+
 }  // namespace
 }  // namespace tumble::physics
