@@ -134,6 +134,12 @@ int main(int argc, char** argv) {
   auto* replay_option = app.add_option("--replay", replay_path,
                                        "Replay a journal made by --record (from its start; --scene must be the "
                                        "recorded scene when given), then serve the world paused where it ended");
+  int physics_threads = 1;
+  app.add_option("--physics-threads", physics_threads,
+                 "Threads that solve the world's contact islands, the sim thread included; results are the same "
+                 "for any count. More help a world of many separate piles on a machine with cores to spare")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   // Scheduling: on a shared machine, keeps ticks and frames on time.
   int realtime_priority = 0;
   app.add_option("--realtime-priority", realtime_priority,
@@ -182,6 +188,7 @@ int main(int argc, char** argv) {
   tumble::sim::SimConfig sim_config;
   sim_config.tick_rate_hz = tick_rate;
   sim_config.max_bodies = max_bodies;
+  sim_config.physics_threads = physics_threads;
 
   // Where the world starts: a journal's start, the state file, or the scene.
   tumble::v1::Scene scene;

@@ -247,6 +247,10 @@ void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.sto
 void Simulation::run_loop() {
   // Named for top -H, perf and /proc/PID/task/*/comm (at most 15 characters).
   pthread_setname_np(pthread_self(), "tumbled-sim");
+  // The physics helpers start here so they inherit this thread's scheduling
+  // (SCHED_FIFO under --realtime-priority): the step waits for an island a
+  // helper has begun, and a helper behind ordinary processes would stall it.
+  world_.set_thread_count(config_.physics_threads);
   double loop_dt = dt_;
   auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
   Clock::time_point start = Clock::now();
@@ -698,6 +702,7 @@ std::optional<ServerMessage> Simulation::step(Command& command) {
 ServerMessage Simulation::reset(const ClientMessage& message) {
   physics::World fresh;
   fresh.set_settings(world_.settings());
+  fresh.set_thread_count(world_.thread_count());
   BodyDirectory directory;
   // The scene built once in create(), so it builds again.
   if (Status status = build_world(&fresh, &directory); !status.ok()) {

@@ -57,6 +57,9 @@ struct SimConfig {
   double tick_rate_hz = 240;             // kMinTickRateHz to kMaxTickRateHz (request_check.h)
   std::uint32_t max_catch_up_ticks = 8;  // late ticks run back to back before the rest are skipped
   std::uint32_t max_bodies = 100000;     // SpawnBody beyond it is RESOURCE_EXHAUSTED
+  // Threads that solve the world's contact islands, the sim thread included
+  // (physics::World::set_thread_count); the helpers start with run_loop().
+  int physics_threads = 1;
 };
 
 // Receives each published snapshot on the sim thread; must not block.

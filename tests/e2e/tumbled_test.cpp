@@ -75,6 +75,7 @@ TEST(Tumbled, AddressInUseIsAClearError) {
 struct ThreadScheduling {
   int policy = -1;
   int priority = -1;
+  int count = 0;  // threads of that name (the last one's policy is kept)
 };
 std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
   std::map<std::string, ThreadScheduling> threads;
@@ -87,16 +88,23 @@ std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
     scheduling.policy = sched_getscheduler(tid);
     sched_param param{};
     if (sched_getparam(tid, &param) == 0) scheduling.priority = param.sched_priority;
-    threads[tid == pid ? std::string("main") : name] = scheduling;
+    ThreadScheduling& entry = threads[tid == pid ? std::string("main") : name];
+    scheduling.count = entry.count + 1;
+    entry = scheduling;
   }
   return threads;
 }
 
 // The threads of pid once its sim thread has started (named when it
-// starts, which may be after the port file is written).
-std::map<std::string, ThreadScheduling> threads_once_stepping(pid_t pid) {
+// starts, which may be after the port file is written) and, when `helpers`
+// is above 0, that many physics helpers (which the sim thread starts).
+std::map<std::string, ThreadScheduling> threads_once_stepping(pid_t pid, int helpers = 0) {
+  auto ready = [&](const std::map<std::string, ThreadScheduling>& threads) {
+    if (!threads.contains("tumbled-sim")) return false;
+    return helpers == 0 || (threads.contains("tumble-physics") && threads.at("tumble-physics").count == helpers);
+  };
   auto threads = thread_scheduling(pid);
-  for (int i = 0; i < 200 && !threads.contains("tumbled-sim"); ++i) {
+  for (int i = 0; i < 200 && !ready(threads); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     threads = thread_scheduling(pid);
   }
@@ -116,19 +124,21 @@ bool may_use_fifo(int priority) {
 }
 
 TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
-  TumbledProcess server(kScene);
+  TumbledProcess server(kScene, {"--physics-threads", "2"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_stepping(server.process().pid());
+  const auto threads = threads_once_stepping(server.process().pid(), 1);
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
+  ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
   for (const auto& [name, scheduling] : threads) EXPECT_EQ(scheduling.policy, SCHED_OTHER) << name;
 }
 
 TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   if (!may_use_fifo(3)) GTEST_SKIP() << "this process may not use SCHED_FIFO (no CAP_SYS_NICE, ulimit -r 0)";
   const std::string dir = make_temp_dir();
-  TumbledProcess server(kScene, {"--realtime-priority", "3", "--state", dir + "/world.state", "--checkpoint-interval", "60"});
+  TumbledProcess server(kScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state",
+                                 dir + "/world.state", "--checkpoint-interval", "60"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_stepping(server.process().pid());
+  const auto threads = threads_once_stepping(server.process().pid(), 2);
   ASSERT_TRUE(threads.contains("main")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-saver")) << server.log();
@@ -137,6 +147,12 @@ TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   EXPECT_EQ(threads.at("main").priority, 3);
   EXPECT_EQ(threads.at("tumbled-sim").policy, SCHED_FIFO);
   EXPECT_EQ(threads.at("tumbled-sim").priority, 3);
+  // The physics helpers, started by the sim thread, inherit its scheduling:
+  // the step waits for the islands they take.
+  ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
+  EXPECT_EQ(threads.at("tumble-physics").count, 2);
+  EXPECT_EQ(threads.at("tumble-physics").policy, SCHED_FIFO);
+  EXPECT_EQ(threads.at("tumble-physics").priority, 3);
   // The checkpoint writer writes files: it stays ordinary.
   EXPECT_EQ(threads.at("tumbled-saver").policy, SCHED_OTHER);
   EXPECT_NE(server.log().find("SCHED_FIFO at priority 3"), std::string::npos) << server.log();
@@ -212,6 +228,29 @@ TEST(Tumbled, RealtimePriorityInAControlGroupWithoutRealTimeTimeNamesTheGroup) {
   EXPECT_NE(result.err.find("its control group has no real-time time"), std::string::npos) << result.err;
   EXPECT_NE(result.err.find("cpu.rt_runtime_us"), std::string::npos) << result.err;
   EXPECT_FALSE(std::filesystem::exists(dir + "/port")) << "it listened before failing";
+}
+
+// --physics-threads N: N - 1 helpers beside the sim thread; 1, none.
+TEST(Tumbled, PhysicsThreadsStartThatManyHelpers) {
+  {
+    TumbledProcess server(kScene, {"--physics-threads", "4"});
+    ASSERT_TRUE(server.started()) << server.log();
+    const auto threads = threads_once_stepping(server.process().pid(), 3);
+    ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
+    EXPECT_EQ(threads.at("tumble-physics").count, 3);
+    // A reset builds a new world; it gets as many helpers, no more.
+    const CommandResult reset = server.cli({"reset"});
+    ASSERT_EQ(reset.exit_code, 0) << reset.err;
+    const auto after = thread_scheduling(server.process().pid());
+    ASSERT_TRUE(after.contains("tumble-physics")) << server.log();
+    EXPECT_EQ(after.at("tumble-physics").count, 3);
+  }
+  TumbledProcess server(kScene, {"--physics-threads", "1"});
+  ASSERT_TRUE(server.started()) << server.log();
+  const auto threads = threads_once_stepping(server.process().pid());
+  EXPECT_FALSE(threads.contains("tumble-physics"));
+  EXPECT_EQ(run_command({tumbled_path(), "--physics-threads", "0"}).exit_code, 2);
+  EXPECT_EQ(run_command({tumbled_path(), "--physics-threads", "65"}).exit_code, 2);
 }
 
 TEST(Tumbled, RealtimePriorityOutsideOneTo99IsAUsageError) {
