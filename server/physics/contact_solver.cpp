@@ -7,6 +7,9 @@
 namespace tumble::physics {
 namespace {
 
+// No body, no island: an unset entry of the union-find scratch.
+constexpr std::uint32_t kNone = 0xffffffff;
+
 // An orthonormal basis (t1, t2) of the plane normal to unit n, continuous
 // except at n.z = 0 crossings (Duff et al., "Building an Orthonormal Basis,
 // Revisited", JCGT 2017).
@@ -18,10 +21,6 @@ void tangent_basis(const Vec3& n, Vec3* t1, Vec3* t2) {
   *t2 = Vec3(b, sign + n.y() * n.y() * a, -n.y());
 }
 
-}  // namespace
-
-namespace {
-constexpr std::uint32_t kNone = 0xffffffff;
 }  // namespace
 
 std::uint32_t ContactSolver::island_root(std::uint32_t body) {
