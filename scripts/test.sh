@@ -14,7 +14,8 @@
 #   SANITIZE=address  AddressSanitizer and UndefinedBehaviorSanitizer, in
 #                     build-asan/; every test but docker, bench and the slow one.
 #   SANITIZE=thread   ThreadSanitizer, in build-tsan/; only the tests that
-#                     run threads (labels net, sim, e2e), without the slow one.
+#                     run threads (labels net, sim, e2e, and physics for the
+#                     islands on helper threads), without the slow one.
 # A sanitizer's report fails the test it comes from.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -45,9 +46,9 @@ case "${SANITIZE:-}" in
     ;;
   thread)
     build_dir=${BUILD_DIR:-build-tsan}
-    BUILD_DIR=$build_dir TARGETS="net_tests sim_tests e2e_tests e2e_bad_input_tests" \
+    BUILD_DIR=$build_dir TARGETS="physics_tests net_tests sim_tests e2e_tests e2e_bad_input_tests" \
       ./scripts/build.sh -DTUMBLE_SANITIZE=thread -DTUMBLE_BUILD_BENCH=OFF
-    ctest_args+=(-L 'net|sim|e2e' -LE slow)
+    ctest_args+=(-L 'physics|net|sim|e2e' -LE slow)
     ;;
   *)
     echo "test.sh: SANITIZE is address or thread, not '$SANITIZE'" >&2
