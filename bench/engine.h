@@ -21,6 +21,9 @@ struct EngineOptions {
   // sleep_enabled, Bullet's deactivation, ODE's auto-disable. Off, every body
   // is simulated every step.
   bool sleeping = true;
+  // Threads tumble solves its contact islands on (World::set_thread_count);
+  // Bullet and ODE always step on one.
+  int tumble_threads = 1;
 };
 
 // Where a body is: centre of mass and orientation (body -> world), world frame.

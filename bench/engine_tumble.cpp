@@ -17,6 +17,7 @@ class TumbleEngine final : public Engine {
     tp::WorldSettings settings;
     settings.sleep_enabled = options.sleeping;
     world_.set_settings(settings);
+    world_.set_thread_count(options.tumble_threads);
     world_.set_gravity(tp::Vec3(0.0, -kGravity, 0.0));
 
     tp::BodyDesc ground;

@@ -101,7 +101,8 @@ std::vector<std::string> without_repeats(const std::vector<std::string>& names) 
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"Runs the same rigid-body scenes in tumble, Bullet and ODE at 60 steps per second on one thread, and "
+  CLI::App app{"Runs the same rigid-body scenes in tumble, Bullet and ODE at 60 steps per second on one thread (tumble "
+               "on --tumble-threads), and "
                "prints per scene and engine the median ms per step, the deepest penetration and the bodies that "
                "fell through the ground."};
   std::vector<std::string> scenes = scene_names();
@@ -110,6 +111,7 @@ int run(int argc, char** argv) {
   int repetitions = 1;
   bool smoke = false;
   bool no_sleep = false;
+  int tumble_threads = 1;
   app.add_option("--scene", scenes, "Scenes to run, repeatable or comma-separated; all when absent")
       ->delimiter(',')
       ->check(CLI::IsMember(scene_names()));
@@ -124,17 +126,25 @@ int run(int argc, char** argv) {
       ->type_name("R");
   app.add_flag("--smoke", smoke, "Small scenes and 10 steps: a quick check that everything runs");
   app.add_flag("--no-sleep", no_sleep, "Turn sleeping off in every engine: every body is simulated every step");
+  app.add_option("--tumble-threads", tumble_threads,
+                 "Threads tumble solves its contact islands on (Bullet and ODE always use one)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str()
+      ->type_name("N");
   CLI11_PARSE(app, argc, argv);
 
   EngineOptions options;
   options.sleeping = !no_sleep;
+  options.tumble_threads = tumble_threads;
   bool all_finite = true;
   for (const std::string& name : without_repeats(scenes)) {
     Scene scene = make_scene(name, smoke);
     if (steps > 0) scene.steps = steps;
-    std::fprintf(stderr, "# %s: %zu bodies, %zu walls, %d steps of %.4f s, %d repetition(s), sleeping %s\n",
+    std::fprintf(stderr,
+                 "# %s: %zu bodies, %zu walls, %d steps of %.4f s, %d repetition(s), sleeping %s, tumble on %d "
+                 "thread(s)\n",
                  scene.name.c_str(), scene.bodies.size(), scene.walls.size(), scene.steps, kTimeStep, repetitions,
-                 options.sleeping ? "on" : "off");
+                 options.sleeping ? "on" : "off", options.tumble_threads);
     for (const EngineResult& result : run_scene(scene, without_repeats(engines), options, repetitions)) {
       const double worst = std::max(result.worst.ground, result.worst.bodies);
       all_finite = all_finite && std::isfinite(worst);
