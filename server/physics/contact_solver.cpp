@@ -10,6 +10,9 @@ namespace {
 // No body, no island: an unset entry of the union-find scratch.
 constexpr std::uint32_t kNone = 0xffffffff;
 
+// Constraints whose rows one task builds.
+constexpr std::size_t kRowBlock = 64;
+
 // An orthonormal basis (t1, t2) of the plane normal to unit n, continuous
 // except at n.z = 0 crossings (Duff et al., "Building an Orthonormal Basis,
 // Revisited", JCGT 2017).
@@ -142,9 +145,11 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   if (points_.size() < point_count_) points_.resize(point_count_);
 
   // Constraints island by island, each island's in active order.
+  slot_of_pending_.resize(pending_.size());
   for (std::size_t k = 0; k < pending_.size(); ++k) {
     Island& island = islands_[island_of_pending_[k]];
-    Constraint& c = constraints_[island.first_constraint + island.constraint_count++];
+    slot_of_pending_[k] = island.first_constraint + island.constraint_count++;
+    Constraint& c = constraints_[slot_of_pending_[k]];
     c.contact = pending_[k];
     c.body_a = links[c.contact].body_a;
     c.body_b = links[c.contact].body_b;
@@ -247,13 +252,14 @@ void ContactSolver::reserve(std::size_t constraints) {
   points_.reserve(kMaxManifoldPoints * constraints);
   pending_.reserve(constraints);
   island_of_pending_.reserve(constraints);
+  slot_of_pending_.reserve(constraints);
   islands_.reserve(constraints);
   island_order_.reserve(constraints);
 }
 
-ContactSolver::Motion ContactSolver::motion_of(std::uint32_t body, const SolverVelocity& velocity,
+ContactSolver::Motion ContactSolver::motion_of(std::uint32_t body, double inverse_mass, const SolverVelocity& velocity,
                                                double elapsed) const {
-  if (bodies_.inverse_mass[body] != 0) return motion_[body];
+  if (inverse_mass != 0) return motion_[body];
   return Motion{elapsed * velocity.linear, elapsed * velocity.angular};
 }
 
@@ -284,8 +290,8 @@ void ContactSolver::solve_pass(const IslandView& island, std::span<SolverVelocit
     // Work on local copies; bodies of inverse mass 0 are not written back.
     Vec3 va = velocities[c.body_a].linear, wa = velocities[c.body_a].angular;
     Vec3 vb = velocities[c.body_b].linear, wb = velocities[c.body_b].angular;
-    const Motion ma = motion_of(c.body_a, velocities[c.body_a], island.elapsed);
-    const Motion mb = motion_of(c.body_b, velocities[c.body_b], island.elapsed);
+    const Motion ma = motion_of(c.body_a, c.inverse_mass_a, velocities[c.body_a], island.elapsed);
+    const Motion mb = motion_of(c.body_b, c.inverse_mass_b, velocities[c.body_b], island.elapsed);
     const double moved = c.normal.dot(mb.displacement - ma.displacement);
     const Softness& softness = c.against_infinite_mass ? static_soft_ : soft_;
     Point* points = points_.data() + c.first_point;
@@ -355,11 +361,21 @@ void ContactSolver::integrate_motion(const IslandView& island, std::span<const S
 }
 
 void ContactSolver::solve(std::span<SolverVelocity> velocities, WorkerTeam* team) {
-  auto task = [&](std::size_t k) { solve_island(islands_[island_order_[k]], velocities); };
+  // Rows first, in the contacts' order (the order they lie in memory, which
+  // a pass island by island would read scattered), in blocks; then the
+  // islands. Both write disjoint slots.
+  const std::size_t blocks = (pending_.size() + kRowBlock - 1) / kRowBlock;
+  auto rows = [&](std::size_t block) {
+    const std::size_t end = std::min(pending_.size(), (block + 1) * kRowBlock);
+    for (std::size_t k = block * kRowBlock; k < end; ++k) build_rows(constraints_[slot_of_pending_[k]], velocities);
+  };
+  auto island = [&](std::size_t k) { solve_island(islands_[island_order_[k]], velocities); };
   if (team != nullptr) {
-    team->for_each(island_order_.size(), task);
+    team->for_each(blocks, rows);
+    team->for_each(island_order_.size(), island);
   } else {
-    for (std::size_t k = 0; k < island_order_.size(); ++k) task(k);
+    for (std::size_t block = 0; block < blocks; ++block) rows(block);
+    for (std::size_t k = 0; k < island_order_.size(); ++k) island(k);
   }
 }
 
@@ -367,7 +383,6 @@ void ContactSolver::solve_island(const Island& island, std::span<SolverVelocity>
   IslandView view{{constraints_.data() + island.first_constraint, island.constraint_count},
                   {touched_.data() + island.first_body, island.body_count},
                   0.0};
-  for (Constraint& c : view.constraints) build_rows(c, velocities);
 
   // The caller added the whole step's external change; the substeps add it
   // a share at a time instead.

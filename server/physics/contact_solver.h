@@ -47,8 +47,8 @@
 // of a WorkerTeam. No two islands write the same body or contact, so the
 // islands may run on several threads at once; each island's arithmetic is the
 // same whichever thread runs it and however many there are, so results do not
-// depend on the thread count. A constraint's rows are built in its island's
-// task too.
+// depend on the thread count. The rows are built before, in blocks of
+// constraints taken in the contacts' order.
 //
 // Thread: prepare() and solve() from the World's thread; solve() runs
 // islands on the team's threads and returns when all are done. Arrays are
@@ -105,8 +105,8 @@ class ContactSolver {
   // written) ahead of need, so a step whose contacts multiply does not copy
   // the rows it has built so far.
   void reserve(std::size_t constraints);
-  // Solves each island on team's threads (on the caller's alone when team
-  // is null): builds its rows, runs the substeps, relax passes and
+  // Builds the rows, then solves each island, on team's threads (on the
+  // caller's alone when team is null): runs the substeps, relax passes and
   // restitution on velocities, and stores the impulses in the contacts for
   // the next step's warm start. velocities holds every body's velocity at
   // the end of the step before contacts (the external change already added).
@@ -189,7 +189,7 @@ class ContactSolver {
   void touch(std::uint32_t body);
   void solve_island(const Island& island, std::span<SolverVelocity> velocities);
   void build_rows(Constraint& c, std::span<const SolverVelocity> velocities);
-  Motion motion_of(std::uint32_t body, const SolverVelocity& velocity, double elapsed) const;
+  Motion motion_of(std::uint32_t body, double inverse_mass, const SolverVelocity& velocity, double elapsed) const;
   void warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const;
   void solve_pass(const IslandView& island, std::span<SolverVelocity> velocities, bool soft);
   void integrate_motion(const IslandView& island, std::span<const SolverVelocity> velocities);
@@ -213,6 +213,7 @@ class ContactSolver {
   std::vector<std::uint32_t> parent_;
   std::vector<std::uint32_t> island_of_root_;
   std::vector<std::uint32_t> island_of_pending_;
+  std::vector<std::uint32_t> slot_of_pending_;  // where each pending contact's constraint went
   std::span<Contact> contacts_;
   ContactSolverBodies bodies_;
   ContactSolverSettings settings_;
