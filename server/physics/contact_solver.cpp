@@ -50,7 +50,6 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   constraint_count_ = 0;
   point_count_ = 0;
   islands_.clear();
-  island_order_.clear();
   pending_.clear();
   const std::size_t body_count = bodies.inverse_mass.size();
   if (motion_.size() < body_count) {
@@ -174,13 +173,6 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
     parent_[body] = kNone;
   }
 
-  // Largest islands first, so the last task to start is a small one.
-  island_order_.resize(islands_.size());
-  for (std::uint32_t i = 0; i < island_order_.size(); ++i) island_order_[i] = i;
-  std::sort(island_order_.begin(), island_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
-    return islands_[x].point_count != islands_[y].point_count ? islands_[x].point_count > islands_[y].point_count
-                                                              : x < y;
-  });
 }
 
 void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> velocities) {
@@ -369,14 +361,22 @@ void ContactSolver::solve(std::span<SolverVelocity> velocities, WorkerTeam* team
     const std::size_t end = std::min(pending_.size(), (block + 1) * kRowBlock);
     for (std::size_t k = block * kRowBlock; k < end; ++k) build_rows(constraints_[slot_of_pending_[k]], velocities);
   };
-  auto island = [&](std::size_t k) { solve_island(islands_[island_order_[k]], velocities); };
-  if (team != nullptr) {
-    team->for_each(blocks, rows);
-    team->for_each(island_order_.size(), island);
-  } else {
+  if (team == nullptr || team->thread_count() == 1) {
     for (std::size_t block = 0; block < blocks; ++block) rows(block);
-    for (std::size_t k = 0; k < island_order_.size(); ++k) island(k);
+    for (const Island& island : islands_) solve_island(island, velocities);
+    return;
   }
+  team->for_each(blocks, rows);
+  // Largest islands first, so the last task to start is a small one. (The
+  // order changes which thread takes an island, not its result.)
+  island_order_.resize(islands_.size());
+  for (std::uint32_t i = 0; i < island_order_.size(); ++i) island_order_[i] = i;
+  std::sort(island_order_.begin(), island_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return islands_[x].point_count != islands_[y].point_count ? islands_[x].point_count > islands_[y].point_count
+                                                              : x < y;
+  });
+  auto island = [&](std::size_t k) { solve_island(islands_[island_order_[k]], velocities); };
+  team->for_each(island_order_.size(), island);
 }
 
 void ContactSolver::solve_island(const Island& island, std::span<SolverVelocity> velocities) {

@@ -203,7 +203,7 @@ class ContactSolver {
   std::size_t constraint_count_ = 0;
   std::size_t point_count_ = 0;
   std::vector<Island> islands_;
-  std::vector<std::uint32_t> island_order_;  // islands by falling point count: the order tasks start
+  std::vector<std::uint32_t> island_order_;  // islands by falling point count: the order a team's tasks start
   std::vector<Motion> motion_;
   std::vector<std::uint8_t> is_touched_;
   std::vector<std::uint32_t> touched_;

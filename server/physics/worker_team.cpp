@@ -43,11 +43,7 @@ WorkerTeam::~WorkerTeam() { stop_helpers(); }
 void WorkerTeam::stop_helpers() {
   if (helpers_.empty()) return;
   stopping_.store(true);
-  wake_.fetch_add(1);
-  {
-    std::lock_guard lock(mutex_);
-  }
-  helpers_wake_.notify_all();
+  wake_helpers();
   for (std::thread& helper : helpers_) helper.join();
   helpers_.clear();
   stopping_.store(false, std::memory_order_relaxed);
@@ -69,24 +65,22 @@ void WorkerTeam::set_thread_count(int threads) {
   }
 }
 
-std::size_t WorkerTeam::work(std::uint32_t job) {
-  std::size_t ran = 0;
+void WorkerTeam::work(std::uint32_t job) {
   std::uint64_t claim = claim_.load(std::memory_order_acquire);
   for (;;) {
-    if (static_cast<std::uint32_t>(claim >> 32) != job) return ran;
+    if (static_cast<std::uint32_t>(claim >> 32) != job) return;
     // Read after the acquire of a claim of this job, so they belong to it
     // or to a later job; a later job closed claim_ before writing them (see
     // run()), so then the exchange below fails.
     const std::uint32_t count = count_.load(std::memory_order_acquire);
     const std::uint32_t task = static_cast<std::uint32_t>(claim);
-    if (task >= count) return ran;
+    if (task >= count) return;
     const TaskFn fn = fn_.load(std::memory_order_acquire);
     void* context = context_.load(std::memory_order_acquire);
     if (!claim_.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
       continue;  // claim holds the current value; look again
     }
     fn(context, task);
-    ++ran;
     done_.fetch_add(1);
     if (owner_sleeping_.load()) {
       {

@@ -58,10 +58,10 @@ class WorkerTeam {
  private:
   // seen: the value of wake_ when the helper was made.
   void helper_main(std::uint32_t seen);
-  // Claims and runs tasks of the job `job` until none is left; returns how
-  // many it ran.
-  std::size_t work(std::uint32_t job);
+  // Claims and runs tasks of the job `job` until none is left.
+  void work(std::uint32_t job);
   void stop_helpers();
+  // Announces a new job (or a stop) to the helpers, waking those asleep.
   void wake_helpers();
 
   std::vector<std::thread> helpers_;
