@@ -95,13 +95,17 @@ std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
   return threads;
 }
 
-// The threads of pid once its sim thread has started (named when it
-// starts, which may be after the port file is written) and, when `helpers`
-// is above 0, that many physics helpers (which the sim thread starts).
-std::map<std::string, ThreadScheduling> threads_once_stepping(pid_t pid, int helpers = 0) {
+// The threads of pid once every one of `expected` (thread name -> count)
+// has started, or after 10 s, whichever is first. The threads tumbled
+// starts name themselves once running, which may be after the port file is
+// written: the sim thread, the physics helpers (which the sim thread
+// starts) and the checkpoint writer.
+std::map<std::string, ThreadScheduling> threads_once_running(pid_t pid, const std::map<std::string, int>& expected) {
   auto ready = [&](const std::map<std::string, ThreadScheduling>& threads) {
-    if (!threads.contains("tumbled-sim")) return false;
-    return helpers == 0 || (threads.contains("tumble-physics") && threads.at("tumble-physics").count == helpers);
+    for (const auto& [name, count] : expected) {
+      if (!threads.contains(name) || threads.at(name).count != count) return false;
+    }
+    return true;
   };
   auto threads = thread_scheduling(pid);
   for (int i = 0; i < 200 && !ready(threads); ++i) {
@@ -126,7 +130,7 @@ bool may_use_fifo(int priority) {
 TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
   TumbledProcess server(kScene, {"--physics-threads", "2"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_stepping(server.process().pid(), 1);
+  const auto threads = threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 1}});
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
   for (const auto& [name, scheduling] : threads) EXPECT_EQ(scheduling.policy, SCHED_OTHER) << name;
@@ -138,7 +142,8 @@ TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   TumbledProcess server(kScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state",
                                  dir + "/world.state", "--checkpoint-interval", "60"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_stepping(server.process().pid(), 2);
+  const auto threads = threads_once_running(server.process().pid(),
+                                           {{"tumbled-sim", 1}, {"tumble-physics", 2}, {"tumbled-saver", 1}});
   ASSERT_TRUE(threads.contains("main")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-saver")) << server.log();
@@ -199,7 +204,7 @@ TEST(Tumbled, RealtimePriorityIsGrantedByRlimitRtprioWithoutPrivilege) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   ASSERT_TRUE(std::filesystem::exists(dir + "/port")) << read_file(dir + "/log");
-  const auto threads = threads_once_stepping(server.pid());
+  const auto threads = threads_once_running(server.pid(), {{"tumbled-sim", 1}});
   ASSERT_TRUE(threads.contains("tumbled-sim")) << read_file(dir + "/log");
   EXPECT_EQ(threads.at("tumbled-sim").policy, SCHED_FIFO);
   EXPECT_EQ(threads.at("tumbled-sim").priority, 5);
@@ -235,7 +240,7 @@ TEST(Tumbled, PhysicsThreadsStartThatManyHelpers) {
   {
     TumbledProcess server(kScene, {"--physics-threads", "4"});
     ASSERT_TRUE(server.started()) << server.log();
-    const auto threads = threads_once_stepping(server.process().pid(), 3);
+    const auto threads = threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 3}});
     ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
     EXPECT_EQ(threads.at("tumble-physics").count, 3);
     // A reset builds a new world; it gets as many helpers, no more.
@@ -247,7 +252,10 @@ TEST(Tumbled, PhysicsThreadsStartThatManyHelpers) {
   }
   TumbledProcess server(kScene, {"--physics-threads", "1"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_stepping(server.process().pid());
+  // A command answered means the sim thread is past starting its helpers.
+  ASSERT_EQ(server.cli({"bodies"}).exit_code, 0) << server.log();
+  const auto threads = thread_scheduling(server.process().pid());
+  ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   EXPECT_FALSE(threads.contains("tumble-physics"));
   EXPECT_EQ(run_command({tumbled_path(), "--physics-threads", "0"}).exit_code, 2);
   EXPECT_EQ(run_command({tumbled_path(), "--physics-threads", "65"}).exit_code, 2);
