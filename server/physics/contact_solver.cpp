@@ -66,6 +66,7 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   settings_.relax_iterations = std::max(settings_.relax_iterations, 0);
   dt_ = dt;
   h_ = dt / settings_.substeps;
+  inverse_h_ = 1.0 / h_;
 
   // The spring of the push (b2MakeSoft): with omega = 2 pi f and zeta the
   // damping ratio, a1 = 2 zeta + h omega, a2 = h omega a1, a3 = 1 / (1 + a2);
@@ -210,6 +211,13 @@ void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> ve
     }
   }
 
+  // A fixed body (contact_solver.h, Constraint::moving_side) adds nothing
+  // to a row: only the other side's terms are built.
+  auto fixed = [](double inverse_mass, const SolverVelocity& v) {
+    return inverse_mass == 0 && v.linear.isZero(0) && v.angular.isZero(0);
+  };
+  c.moving_side = fixed(c.inverse_mass_a, va) ? 1 : fixed(c.inverse_mass_b, vb) ? 0 : kBothSides;
+  const bool moves_a = c.moving_side != 1, moves_b = c.moving_side != 0;
   const Mat3& inertia_a = bodies.inverse_inertia[c.body_a];
   const Mat3& inertia_b = bodies.inverse_inertia[c.body_b];
   const double inverse_mass_sum = c.inverse_mass_a + c.inverse_mass_b;
@@ -220,11 +228,17 @@ void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> ve
     const Vec3 rb = point - xb;
     Point& p = points_[c.first_point + static_cast<std::uint32_t>(k)];
     auto make_row = [&](Row& row, const Vec3& d, double impulse) {
-      row.jacobian_a = ra.cross(d);
-      row.jacobian_b = rb.cross(d);
-      row.response_a = inertia_a * row.jacobian_a;
-      row.response_b = inertia_b * row.jacobian_b;
-      const double k_row = inverse_mass_sum + row.jacobian_a.dot(row.response_a) + row.jacobian_b.dot(row.response_b);
+      double k_row = inverse_mass_sum;
+      if (moves_a) {
+        row.jacobian[0] = ra.cross(d);
+        row.response[0] = inertia_a * row.jacobian[0];
+        k_row += row.jacobian[0].dot(row.response[0]);
+      }
+      if (moves_b) {
+        row.jacobian[1] = rb.cross(d);
+        row.response[1] = inertia_b * row.jacobian[1];
+        k_row += row.jacobian[1].dot(row.response[1]);
+      }
       row.mass = k_row > 0 ? 1.0 / k_row : 0.0;
       row.impulse = impulse;
     };
@@ -233,8 +247,15 @@ void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> ve
     make_row(p.tangent1, c.tangent1, friction_impulse.dot(c.tangent1));
     make_row(p.tangent2, c.tangent2, friction_impulse.dot(c.tangent2));
     p.separation = mp.separation;
-    p.relative_velocity = c.normal.dot(vb.linear - va.linear) + p.normal.jacobian_b.dot(vb.angular) -
-                          p.normal.jacobian_a.dot(va.angular);
+    if (c.moving_side == kBothSides) {
+      p.relative_velocity = c.normal.dot(vb.linear - va.linear) + p.normal.jacobian[1].dot(vb.angular) -
+                            p.normal.jacobian[0].dot(va.angular);
+    } else {
+      const int side = c.moving_side;
+      const SolverVelocity& v = side == 1 ? vb : va;
+      const double sign = side == 1 ? 1.0 : -1.0;
+      p.relative_velocity = sign * c.normal.dot(v.linear) + sign * p.normal.jacobian[side].dot(v.angular);
+    }
     p.max_normal_impulse = 0;
   }
 }
@@ -257,6 +278,26 @@ ContactSolver::Motion ContactSolver::motion_of(std::uint32_t body, double invers
 
 void ContactSolver::warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const {
   for (const Constraint& c : island.constraints) {
+    if (c.moving_side != kBothSides) {
+      // Body b takes the impulse, a its opposite (sign); the fixed one
+      // nothing.
+      const int side = c.moving_side;
+      const std::uint32_t body = side == 1 ? c.body_b : c.body_a;
+      const double sign = side == 1 ? 1.0 : -1.0;
+      const double inverse_mass = side == 1 ? c.inverse_mass_b : c.inverse_mass_a;
+      if (inverse_mass == 0) continue;
+      SolverVelocity v = velocities[body];
+      for (std::uint32_t k = 0; k < c.point_count; ++k) {
+        const Point& p = points_[c.first_point + k];
+        const Vec3 impulse =
+            p.normal.impulse * c.normal + p.tangent1.impulse * c.tangent1 + p.tangent2.impulse * c.tangent2;
+        v.linear += (sign * inverse_mass) * impulse;
+        v.angular += sign * (p.normal.impulse * p.normal.response[side] + p.tangent1.impulse * p.tangent1.response[side] +
+                             p.tangent2.impulse * p.tangent2.response[side]);
+      }
+      velocities[body] = v;
+      continue;
+    }
     SolverVelocity a = velocities[c.body_a];
     SolverVelocity b = velocities[c.body_b];
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
@@ -264,11 +305,11 @@ void ContactSolver::warm_start(const IslandView& island, std::span<SolverVelocit
       const Vec3 impulse =
           p.normal.impulse * c.normal + p.tangent1.impulse * c.tangent1 + p.tangent2.impulse * c.tangent2;
       a.linear -= c.inverse_mass_a * impulse;
-      a.angular -= p.normal.impulse * p.normal.response_a + p.tangent1.impulse * p.tangent1.response_a +
-                   p.tangent2.impulse * p.tangent2.response_a;
+      a.angular -= p.normal.impulse * p.normal.response[0] + p.tangent1.impulse * p.tangent1.response[0] +
+                   p.tangent2.impulse * p.tangent2.response[0];
       b.linear += c.inverse_mass_b * impulse;
-      b.angular += p.normal.impulse * p.normal.response_b + p.tangent1.impulse * p.tangent1.response_b +
-                   p.tangent2.impulse * p.tangent2.response_b;
+      b.angular += p.normal.impulse * p.normal.response[1] + p.tangent1.impulse * p.tangent1.response[1] +
+                   p.tangent2.impulse * p.tangent2.response[1];
     }
     // A body of infinite mass is shared by islands and never written.
     if (c.inverse_mass_a != 0) velocities[c.body_a] = a;
@@ -276,16 +317,58 @@ void ContactSolver::warm_start(const IslandView& island, std::span<SolverVelocit
   }
 }
 
+ContactSolver::NormalTarget ContactSolver::normal_target(const Constraint& c, double separation, bool soft) const {
+  NormalTarget target;
+  if (separation > 0) {
+    target.bias = separation * inverse_h_;  // speculative: may close the gap within the substep
+  } else if (soft) {
+    const Softness& softness = c.against_infinite_mass ? static_soft_ : soft_;
+    target.bias = std::max(softness.bias_rate * separation, -settings_.max_push_speed);
+    target.mass_scale = softness.mass_scale;
+    target.impulse_scale = softness.impulse_scale;
+  }
+  return target;
+}
+
+double ContactSolver::accumulate_normal(Point& p, double vn, const NormalTarget& target) {
+  const double accumulated =
+      std::max(p.normal.impulse - p.normal.mass * target.mass_scale * (vn + target.bias) -
+                   target.impulse_scale * p.normal.impulse,
+               0.0);
+  const double d = accumulated - p.normal.impulse;
+  p.normal.impulse = accumulated;
+  p.max_normal_impulse = std::max(p.max_normal_impulse, accumulated);
+  return d;
+}
+
+void ContactSolver::accumulate_friction(Point& p, double friction, double vt1, double vt2, double* d1, double* d2) {
+  double new1 = p.tangent1.impulse - p.tangent1.mass * vt1;
+  double new2 = p.tangent2.impulse - p.tangent2.mass * vt2;
+  const double limit = friction * p.normal.impulse;
+  const double length2 = new1 * new1 + new2 * new2;
+  if (length2 > limit * limit) {
+    const double scale = limit / std::sqrt(length2);
+    new1 *= scale;
+    new2 *= scale;
+  }
+  *d1 = new1 - p.tangent1.impulse;
+  *d2 = new2 - p.tangent2.impulse;
+  p.tangent1.impulse = new1;
+  p.tangent2.impulse = new2;
+}
+
 void ContactSolver::solve_pass(const IslandView& island, std::span<SolverVelocity> velocities, bool soft) {
-  const double inv_h = 1.0 / h_;
   for (const Constraint& c : island.constraints) {
+    if (c.moving_side != kBothSides) {
+      one_sided_pass(c, island, velocities, soft);
+      continue;
+    }
     // Work on local copies; bodies of inverse mass 0 are not written back.
     Vec3 va = velocities[c.body_a].linear, wa = velocities[c.body_a].angular;
     Vec3 vb = velocities[c.body_b].linear, wb = velocities[c.body_b].angular;
     const Motion ma = motion_of(c.body_a, c.inverse_mass_a, velocities[c.body_a], island.elapsed);
     const Motion mb = motion_of(c.body_b, c.inverse_mass_b, velocities[c.body_b], island.elapsed);
     const double moved = c.normal.dot(mb.displacement - ma.displacement);
-    const Softness& softness = c.against_infinite_mass ? static_soft_ : soft_;
     Point* points = points_.data() + c.first_point;
 
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
@@ -293,55 +376,69 @@ void ContactSolver::solve_pass(const IslandView& island, std::span<SolverVelocit
       // Separation now: the start value plus the relative motion of the two
       // contact points along the normal.
       const double s =
-          p.separation + moved + p.normal.jacobian_b.dot(mb.rotation) - p.normal.jacobian_a.dot(ma.rotation);
-      double bias = 0, mass_scale = 1, impulse_scale = 0;
-      if (s > 0) {
-        bias = s * inv_h;  // speculative: may close the gap within the substep
-      } else if (soft) {
-        bias = std::max(softness.bias_rate * s, -settings_.max_push_speed);
-        mass_scale = softness.mass_scale;
-        impulse_scale = softness.impulse_scale;
-      }
-      const double vn = c.normal.dot(vb - va) + p.normal.jacobian_b.dot(wb) - p.normal.jacobian_a.dot(wa);
-      const double accumulated = std::max(
-          p.normal.impulse - p.normal.mass * mass_scale * (vn + bias) - impulse_scale * p.normal.impulse, 0.0);
-      const double d = accumulated - p.normal.impulse;
-      p.normal.impulse = accumulated;
-      p.max_normal_impulse = std::max(p.max_normal_impulse, accumulated);
+          p.separation + moved + p.normal.jacobian[1].dot(mb.rotation) - p.normal.jacobian[0].dot(ma.rotation);
+      const double vn = c.normal.dot(vb - va) + p.normal.jacobian[1].dot(wb) - p.normal.jacobian[0].dot(wa);
+      const double d = accumulate_normal(p, vn, normal_target(c, s, soft));
       va -= (c.inverse_mass_a * d) * c.normal;
-      wa -= d * p.normal.response_a;
+      wa -= d * p.normal.response[0];
       vb += (c.inverse_mass_b * d) * c.normal;
-      wb += d * p.normal.response_b;
+      wb += d * p.normal.response[1];
     }
 
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
       Point& p = points[k];
       const Vec3 dv = vb - va;
-      const double vt1 = c.tangent1.dot(dv) + p.tangent1.jacobian_b.dot(wb) - p.tangent1.jacobian_a.dot(wa);
-      const double vt2 = c.tangent2.dot(dv) + p.tangent2.jacobian_b.dot(wb) - p.tangent2.jacobian_a.dot(wa);
-      double new1 = p.tangent1.impulse - p.tangent1.mass * vt1;
-      double new2 = p.tangent2.impulse - p.tangent2.mass * vt2;
-      const double limit = c.friction * p.normal.impulse;
-      const double length2 = new1 * new1 + new2 * new2;
-      if (length2 > limit * limit) {
-        const double scale = limit / std::sqrt(length2);
-        new1 *= scale;
-        new2 *= scale;
-      }
-      const double d1 = new1 - p.tangent1.impulse;
-      const double d2 = new2 - p.tangent2.impulse;
-      p.tangent1.impulse = new1;
-      p.tangent2.impulse = new2;
+      const double vt1 = c.tangent1.dot(dv) + p.tangent1.jacobian[1].dot(wb) - p.tangent1.jacobian[0].dot(wa);
+      const double vt2 = c.tangent2.dot(dv) + p.tangent2.jacobian[1].dot(wb) - p.tangent2.jacobian[0].dot(wa);
+      double d1, d2;
+      accumulate_friction(p, c.friction, vt1, vt2, &d1, &d2);
       const Vec3 impulse = d1 * c.tangent1 + d2 * c.tangent2;
       va -= c.inverse_mass_a * impulse;
-      wa -= d1 * p.tangent1.response_a + d2 * p.tangent2.response_a;
+      wa -= d1 * p.tangent1.response[0] + d2 * p.tangent2.response[0];
       vb += c.inverse_mass_b * impulse;
-      wb += d1 * p.tangent1.response_b + d2 * p.tangent2.response_b;
+      wb += d1 * p.tangent1.response[1] + d2 * p.tangent2.response[1];
     }
 
     if (c.inverse_mass_a != 0) velocities[c.body_a] = {va, wa};
     if (c.inverse_mass_b != 0) velocities[c.body_b] = {vb, wb};
   }
+}
+
+// The pass of solve_pass() for a constraint with one fixed body: the same
+// rows with the fixed body's terms, all zero, left out. Body b takes the
+// impulse and a its opposite, so the moving body's share carries sign.
+void ContactSolver::one_sided_pass(const Constraint& c, const IslandView& island,
+                                   std::span<SolverVelocity> velocities, bool soft) {
+  const int side = c.moving_side;
+  const std::uint32_t body = side == 1 ? c.body_b : c.body_a;
+  const double inverse_mass = side == 1 ? c.inverse_mass_b : c.inverse_mass_a;
+  const double sign = side == 1 ? 1.0 : -1.0;
+  Vec3 v = velocities[body].linear, w = velocities[body].angular;
+  const Motion motion = motion_of(body, inverse_mass, velocities[body], island.elapsed);
+  const double moved = sign * c.normal.dot(motion.displacement);
+  Point* points = points_.data() + c.first_point;
+
+  for (std::uint32_t k = 0; k < c.point_count; ++k) {
+    Point& p = points[k];
+    const double s = p.separation + moved + sign * p.normal.jacobian[side].dot(motion.rotation);
+    const double vn = sign * c.normal.dot(v) + sign * p.normal.jacobian[side].dot(w);
+    const double d = accumulate_normal(p, vn, normal_target(c, s, soft));
+    v += (sign * (inverse_mass * d)) * c.normal;
+    w += (sign * d) * p.normal.response[side];
+  }
+
+  for (std::uint32_t k = 0; k < c.point_count; ++k) {
+    Point& p = points[k];
+    const double vt1 = sign * c.tangent1.dot(v) + sign * p.tangent1.jacobian[side].dot(w);
+    const double vt2 = sign * c.tangent2.dot(v) + sign * p.tangent2.jacobian[side].dot(w);
+    double d1, d2;
+    accumulate_friction(p, c.friction, vt1, vt2, &d1, &d2);
+    const Vec3 impulse = d1 * c.tangent1 + d2 * c.tangent2;
+    v += (sign * inverse_mass) * impulse;
+    w += sign * (d1 * p.tangent1.response[side] + d2 * p.tangent2.response[side]);
+  }
+
+  if (inverse_mass != 0) velocities[body] = {v, w};
 }
 
 void ContactSolver::integrate_motion(const IslandView& island, std::span<const SolverVelocity> velocities) {
@@ -409,22 +506,30 @@ void ContactSolver::solve_island(const Island& island, std::span<SolverVelocity>
 void ContactSolver::apply_restitution(const IslandView& island, std::span<SolverVelocity> velocities) {
   for (const Constraint& c : island.constraints) {
     if (c.restitution == 0) continue;
+    // Both bodies' velocities, the side terms of a fixed one left out
+    // (it has none: see one_sided_pass()).
+    const bool moves_a = c.moving_side != 1, moves_b = c.moving_side != 0;
     SolverVelocity a = velocities[c.body_a];
     SolverVelocity b = velocities[c.body_b];
     for (std::uint32_t k = 0; k < c.point_count; ++k) {
       Point& p = points_[c.first_point + k];
       if (p.relative_velocity > -settings_.restitution_threshold || p.max_normal_impulse == 0) continue;
-      const double vn = c.normal.dot(b.linear - a.linear) + p.normal.jacobian_b.dot(b.angular) -
-                        p.normal.jacobian_a.dot(a.angular);
+      double vn = c.normal.dot(b.linear - a.linear);
+      if (moves_b) vn += p.normal.jacobian[1].dot(b.angular);
+      if (moves_a) vn -= p.normal.jacobian[0].dot(a.angular);
       // Target v_n = -e v_n(before).
       const double accumulated =
           std::max(p.normal.impulse - p.normal.mass * (vn + c.restitution * p.relative_velocity), 0.0);
       const double d = accumulated - p.normal.impulse;
       p.normal.impulse = accumulated;
-      a.linear -= (c.inverse_mass_a * d) * c.normal;
-      a.angular -= d * p.normal.response_a;
-      b.linear += (c.inverse_mass_b * d) * c.normal;
-      b.angular += d * p.normal.response_b;
+      if (moves_a) {
+        a.linear -= (c.inverse_mass_a * d) * c.normal;
+        a.angular -= d * p.normal.response[0];
+      }
+      if (moves_b) {
+        b.linear += (c.inverse_mass_b * d) * c.normal;
+        b.angular += d * p.normal.response[1];
+      }
     }
     if (c.inverse_mass_a != 0) velocities[c.body_a] = a;
     if (c.inverse_mass_b != 0) velocities[c.body_b] = b;

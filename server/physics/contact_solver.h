@@ -50,6 +50,12 @@
 // depend on the thread count. The rows are built before, in blocks of
 // constraints taken in the contacts' order.
 //
+// Fixed bodies: a contact against a body of inverse mass 0 at rest (the
+// ground, a static box, a kinematic body standing still) has every term of
+// that body zero, so its rows are built and solved for the other body alone
+// (as Jolt dispatches its contact solve on the two bodies' motion types);
+// the arithmetic of the terms kept is the same, and so are the results.
+//
 // Thread: prepare() and solve() from the World's thread; solve() runs
 // islands on the team's threads and returns when all are done. Arrays are
 // reused; no allocation once warmed up.
@@ -123,12 +129,11 @@ class ContactSolver {
 
  private:
   // One row: a direction d at one point, with its angular Jacobians and
-  // their products with the inverse inertias.
+  // their products with the inverse inertias, indexed by side (0 for body
+  // a, 1 for body b); a fixed side's entries are not written.
   struct Row {
-    Vec3 jacobian_a;     // r_a x d
-    Vec3 jacobian_b;     // r_b x d
-    Vec3 response_a;     // I_a^-1 (r_a x d)
-    Vec3 response_b;     // I_b^-1 (r_b x d)
+    Vec3 jacobian[2];    // r_a x d, r_b x d
+    Vec3 response[2];    // I_a^-1 (r_a x d), I_b^-1 (r_b x d)
     double mass = 0;     // effective mass
     double impulse = 0;  // accumulated
   };
@@ -151,6 +156,11 @@ class ContactSolver {
     double friction = 0;
     double restitution = 0;
     bool against_infinite_mass = false;  // one body static or kinematic: stiffer push
+    // A body of inverse mass 0 at rest (static, or kinematic standing
+    // still) is fixed: every term of its velocity, motion and inertia is
+    // zero, and the rows keep only the other side's (one_sided_pass()).
+    // kBothSides when neither is fixed.
+    std::uint8_t moving_side = kBothSides;
     Vec3 normal;
     Vec3 tangent1;
     Vec3 tangent2;
@@ -163,6 +173,14 @@ class ContactSolver {
   // The implicit spring of a soft row (Box2D's b2Softness).
   struct Softness {
     double bias_rate = 0;      // 1/s
+    double mass_scale = 1;
+    double impulse_scale = 0;
+  };
+
+  // What a normal row asks this pass at separation s: the velocity bias
+  // (m/s) and the mass and impulse scales (1 and 0 for a rigid row).
+  struct NormalTarget {
+    double bias = 0;
     double mass_scale = 1;
     double impulse_scale = 0;
   };
@@ -185,6 +203,8 @@ class ContactSolver {
     double elapsed = 0;  // s of substeps integrated
   };
 
+  static constexpr std::uint8_t kBothSides = 2;
+
   std::uint32_t island_root(std::uint32_t body);
   void touch(std::uint32_t body);
   void solve_island(const Island& island, std::span<SolverVelocity> velocities);
@@ -192,6 +212,10 @@ class ContactSolver {
   Motion motion_of(std::uint32_t body, double inverse_mass, const SolverVelocity& velocity, double elapsed) const;
   void warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const;
   void solve_pass(const IslandView& island, std::span<SolverVelocity> velocities, bool soft);
+  void one_sided_pass(const Constraint& c, const IslandView& island, std::span<SolverVelocity> velocities, bool soft);
+  NormalTarget normal_target(const Constraint& c, double separation, bool soft) const;
+  static double accumulate_normal(Point& p, double vn, const NormalTarget& target);
+  static void accumulate_friction(Point& p, double friction, double vt1, double vt2, double* d1, double* d2);
   void integrate_motion(const IslandView& island, std::span<const SolverVelocity> velocities);
   void apply_restitution(const IslandView& island, std::span<SolverVelocity> velocities);
   void store_impulses(const IslandView& island) const;
@@ -219,6 +243,7 @@ class ContactSolver {
   ContactSolverSettings settings_;
   double dt_ = 0;
   double h_ = 0;  // substep
+  double inverse_h_ = 0;
   Softness soft_;
   Softness static_soft_;
 };

@@ -82,5 +82,74 @@ INSTANTIATE_TEST_SUITE_P(Slopes, FrictionTest, ::testing::Values(SlopeKind::stat
                            return param_info.param == SlopeKind::static_box ? "StaticBox" : "RotatedPlane";
                          });
 
+// A box sliding on its face over fixed supports decelerates at mu g and
+// stops after v0^2 / (2 mu g). A fixed support adds no terms to the
+// contact rows, whichever side of the contact it is: static spheres come
+// first in collide order (the box is the contact's second body), a static
+// box second (the box is the first), and a kinematic box standing still
+// is as fixed as a static one.
+enum class Support { static_spheres, static_box, still_kinematic_box };
+
+class SlidingTest : public ::testing::TestWithParam<Support> {};
+
+TEST_P(SlidingTest, BoxOnFixedSupportsDeceleratesAtMuG) {
+  const double mu = 0.4;
+  const double v0 = 2.0;
+  World world;
+  world.set_gravity(Vec3(0.0, -kGravity, 0.0));
+  double top = 0;  // height of the supports' top
+  if (GetParam() == Support::static_spheres) {
+    // Four spheres of radius 0.5 whose tops stay under the box all the way,
+    // its centre within them.
+    for (double x : {-1.0, 1.0}) {
+      for (double z : {-0.5, 0.5}) {
+        BodyDesc sphere = testing::sphere_body(Vec3(x, 0.0, z));
+        sphere.motion_type = MotionType::static_body;
+        sphere.friction = mu;
+        world.add_body(sphere);
+      }
+    }
+    top = 0.5;
+  } else {
+    BodyDesc slab = box_body(Vec3(0.0, -0.5, 0.0));
+    slab.shape = box_shape(Vec3(5.0, 0.5, 5.0));
+    slab.motion_type =
+        GetParam() == Support::static_box ? MotionType::static_body : MotionType::kinematic_body;
+    slab.friction = mu;
+    world.add_body(slab);
+  }
+  BodyDesc desc = box_body(Vec3(0.0, top + 0.25, 0.0));
+  desc.shape = box_shape(Vec3(2.0, 0.25, 1.0));
+  desc.mass_properties = box_mass_properties(1.0, desc.shape.half_extents);
+  desc.friction = mu;
+  desc.linear_velocity = Vec3(v0, 0.0, 0.0);
+  const BodyId box = world.add_body(desc);
+
+  // dv/dt over 0.3 s, after the first contact has settled.
+  for (int i = 0; i < 12; ++i) world.step(kTick);
+  const double start_v = world.linear_velocity(box).x();
+  for (int i = 0; i < 72; ++i) world.step(kTick);
+  const double measured = (world.linear_velocity(box).x() - start_v) / (72 * kTick);
+  EXPECT_NEAR(measured, -mu * kGravity, 0.05 * mu * kGravity);
+  for (int i = 0; i < 240; ++i) world.step(kTick);
+  EXPECT_LT(world.linear_velocity(box).norm(), 0.01);
+  const double distance = v0 * v0 / (2 * mu * kGravity);
+  EXPECT_NEAR(world.position(box).x(), distance, 0.05 * distance);
+  EXPECT_NEAR(world.position(box).y(), top + 0.25, 0.005);
+  EXPECT_NEAR(world.position(box).z(), 0.0, 1e-3);
+}
+
+INSTANTIATE_TEST_SUITE_P(Supports, SlidingTest,
+                         ::testing::Values(Support::static_spheres, Support::static_box,
+                                           Support::still_kinematic_box),
+                         [](const ::testing::TestParamInfo<Support>& param_info) {
+                           switch (param_info.param) {
+                             case Support::static_spheres: return "StaticSpheres";
+                             case Support::static_box: return "StaticBox";
+                             case Support::still_kinematic_box: return "StillKinematicBox";
+                           }
+                           return "";
+                         });
+
 }  // namespace
 }  // namespace tumble::physics
