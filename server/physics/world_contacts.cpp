@@ -272,7 +272,9 @@ void World::update_manifold(Contact& c, std::uint32_t index) {
   // Points up to the margin plus the distance the two can close this step.
   const double max_separation = settings_.contact_margin + records_[a].reach + records_[b].reach;
   const ShapeType type_a = shapes_[a].type, type_b = shapes_[b].type;
-  const bool cacheable = (is_polyhedron(type_a) || is_polyhedron(type_b)) && type_b != ShapeType::plane;
+  // Pairs with a polyhedron, the ground plane's included: a box settling on
+  // the ground keeps its corners where they were.
+  const bool cacheable = is_polyhedron(type_a) || is_polyhedron(type_b);
 
   Vec3 relative_position = Vec3::Zero();
   Quat relative_rotation = Quat::Identity();

@@ -86,5 +86,33 @@ TEST(RestingContactTest, BoxRestsOnStaticBox) {
   EXPECT_NEAR(world.position(box).z(), -0.2, 1e-3);
 }
 
+// A box resting on a box resting on the ground: once still, neither
+// manifold is computed again, the one against the plane included; each is
+// re-evaluated from its anchors (Contact's cache). A push that moves the
+// stack more than the cache's millimetre computes them afresh.
+TEST(RestingContactTest, RestingStackReusesItsManifolds) {
+  World world;
+  world.set_settings([] {
+    WorldSettings settings;
+    settings.sleep_enabled = false;
+    return settings;
+  }());
+  world.set_gravity(Vec3(0.0, -testing::kGravity, 0.0));
+  world.add_body(ground_plane());
+  const BodyId bottom = world.add_body(box_body(Vec3(0.0, 0.5, 0.0)));
+  world.add_body(box_body(Vec3(0.0, 1.5, 0.0)));
+  for (int i = 0; i < 240; ++i) world.step(kTick);
+  for (int i = 0; i < 24; ++i) {
+    world.step(kTick);
+    EXPECT_EQ(world.last_step_stats().narrowphase_pairs, 2u);
+    EXPECT_EQ(world.last_step_stats().manifolds_computed, 0u);
+    EXPECT_EQ(world.last_step_stats().solved_points, 8u);
+  }
+  EXPECT_NEAR(world.position(bottom).y(), 0.5, 0.005);
+  world.apply_impulse(bottom, Vec3(3.0, 0.0, 0.0));
+  world.step(kTick);
+  EXPECT_GE(world.last_step_stats().manifolds_computed, 1u);
+}
+
 }  // namespace
 }  // namespace tumble::physics
