@@ -21,8 +21,10 @@ Vec3 angular_velocity_at(const Quat& q, const Vec3& angular_momentum, const Mat3
 
 Quat advance_orientation(const Quat& orientation, const Vec3& angular_momentum, const Mat3& inverse_inertia_body,
                          double dt) {
-  Vec3 w_mid = angular_velocity_at(orientation, angular_momentum, inverse_inertia_body);
-  for (int i = 0; i < kMaxMidpointIterations; ++i) {
+  const bool isotropic = is_isotropic(inverse_inertia_body);
+  Vec3 w_mid = isotropic ? Vec3(inverse_inertia_body(0, 0) * angular_momentum)
+                         : angular_velocity_at(orientation, angular_momentum, inverse_inertia_body);
+  for (int i = 0; i < kMaxMidpointIterations && !isotropic; ++i) {
     // q_mid = exp(w_mid dt/2) q_n: the orientation half way through the step.
     const Quat q_mid = quat_from_rotation_vector((0.5 * dt) * w_mid) * orientation;
     const Vec3 next = angular_velocity_at(q_mid, angular_momentum, inverse_inertia_body);

@@ -29,7 +29,8 @@ namespace tumble::physics {
 // w_mid is found by fixed-point iteration starting from w at q_n; each
 // iteration shrinks the error by about |w| dt / 2 times the body's inertia
 // anisotropy, so it converges in a few iterations while |w| dt is well below
-// one radian per step. The result is normalised.
+// one radian per step. An isotropic body needs none: w = I_body^-1 L at
+// every orientation. The result is normalised.
 Quat advance_orientation(const Quat& orientation, const Vec3& angular_momentum, const Mat3& inverse_inertia_body,
                          double dt);
 

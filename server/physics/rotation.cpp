@@ -19,8 +19,15 @@ Quat quat_from_rotation_vector(const Vec3& theta) {
   return Quat(std::cos(0.5 * angle), s * theta.x(), s * theta.y(), s * theta.z());
 }
 
+bool is_isotropic(const Mat3& t) { return t == t(0, 0) * Mat3::Identity(); }
+
 Mat3 body_to_world_tensor(const Quat& q, const Mat3& tensor_body) {
-  const Mat3 r = q.toRotationMatrix();
+  if (is_isotropic(tensor_body)) return tensor_body;
+  return body_to_world_tensor(q.toRotationMatrix(), tensor_body);
+}
+
+Mat3 body_to_world_tensor(const Mat3& r, const Mat3& tensor_body) {
+  if (is_isotropic(tensor_body)) return tensor_body;
   return r * tensor_body * r.transpose();
 }
 

@@ -13,8 +13,15 @@ namespace tumble::physics {
 // smooth through theta = 0.
 Quat quat_from_rotation_vector(const Vec3& theta);
 
+// Whether t is exactly c times the identity (the inertia of a cube or a
+// sphere, or its inverse): then R t R^T = t for every rotation R.
+bool is_isotropic(const Mat3& t);
+
 // A tensor given in body axes expressed in world axes: R T R^T with R the
-// rotation matrix of q (Baraff, "The Inertia Tensor": I(t) = R I_body R^T).
+// rotation matrix of q (Baraff, "The Inertia Tensor": I(t) = R I_body R^T);
+// an isotropic tensor as it is.
 Mat3 body_to_world_tensor(const Quat& q, const Mat3& tensor_body);
+// The same with R given.
+Mat3 body_to_world_tensor(const Mat3& r, const Mat3& tensor_body);
 
 }  // namespace tumble::physics

@@ -100,7 +100,7 @@ void World::refresh_solver_data(std::size_t i) {
   transforms_[i] = Transform{state.position, state.orientation.toRotationMatrix()};
   if (is_dynamic(i)) {
     const Mat3& r = transforms_[i].rotation;
-    inverse_inertia_[i] = r * masses_[i].inverse_inertia_body * r.transpose();
+    inverse_inertia_[i] = body_to_world_tensor(r, masses_[i].inverse_inertia_body);
     velocities_[i] = {state.linear_momentum * masses_[i].inverse_mass, inverse_inertia_[i] * state.angular_momentum};
   } else if (records_[i].motion_type == MotionType::kinematic_body) {
     velocities_[i] = {records_[i].kinematic_linear_velocity, records_[i].kinematic_angular_velocity};

@@ -51,7 +51,7 @@ void World::integrate_velocities(double dt) {
       // v = P / M and w = I^-1 L with I^-1 = R I_body^-1 R^T at the pose
       // of the start of the step (Baraff, "Angular Momentum").
       const Mat3& r = transforms_[i].rotation;
-      inverse_inertia_[i] = r * masses_[i].inverse_inertia_body * r.transpose();
+      inverse_inertia_[i] = body_to_world_tensor(r, masses_[i].inverse_inertia_body);
       const double inverse_mass = masses_[i].inverse_mass;
       external_[i] = {((state.force + masses_[i].mass * gravity_) * dt) * inverse_mass,
                       inverse_inertia_[i] * (state.torque * dt)};
@@ -95,7 +95,10 @@ void World::solve_contacts(double dt) {
     if (!is_dynamic(i)) continue;
     const Mat3& r = transforms_[i].rotation;
     states_[i].linear_momentum = masses_[i].mass * velocities_[i].linear;
-    states_[i].angular_momentum = r * (masses_[i].inertia_body * (r.transpose() * velocities_[i].angular));
+    const Mat3& inertia_body = masses_[i].inertia_body;
+    states_[i].angular_momentum = is_isotropic(inertia_body)
+                                      ? Vec3(inertia_body(0, 0) * velocities_[i].angular)
+                                      : Vec3(r * (inertia_body * (r.transpose() * velocities_[i].angular)));
   }
 }
 

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "physics/mass_properties.h"
+
 namespace tumble::physics {
 namespace {
 
@@ -44,6 +46,22 @@ TEST(RotationTest, BodyToWorldTensor) {
   Mat3 expected = Mat3::Zero();
   expected.diagonal() = Vec3(2.0, 0.1, 2.0);
   EXPECT_TRUE(body_to_world_tensor(q, rod).isApprox(expected, 1e-15)) << body_to_world_tensor(q, rod);
+}
+
+TEST(RotationTest, IsotropicTensorsAreTheSameInEveryFrame) {
+  // A cube's inertia and its inverse are c 1 exactly; R (c 1) R^T is c 1,
+  // returned as it is.
+  const Mat3 cube = box_mass_properties(3.0, Vec3::Constant(0.15)).inertia;
+  EXPECT_TRUE(is_isotropic(cube));
+  EXPECT_TRUE(is_isotropic(cube.inverse()));
+  const Quat q = quat_from_rotation_vector(Vec3(0.3, -1.1, 0.7));
+  EXPECT_EQ(body_to_world_tensor(q, cube.inverse()), cube.inverse());
+  // Not c 1: a box of unequal sides, an off-diagonal entry of 1e-300.
+  EXPECT_FALSE(is_isotropic(box_mass_properties(3.0, Vec3(0.15, 0.15, 0.2)).inertia));
+  Mat3 nearly = cube;
+  nearly(0, 1) = 1e-300;
+  EXPECT_FALSE(is_isotropic(nearly));
+  EXPECT_FALSE(is_isotropic(Vec3(1.0, 1.0, 1.0 + 1e-15).asDiagonal().toDenseMatrix()));
 }
 
 }  // namespace
