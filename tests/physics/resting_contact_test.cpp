@@ -92,12 +92,7 @@ TEST(RestingContactTest, BoxRestsOnStaticBox) {
 // stack more than the cache's millimetre computes them afresh.
 TEST(RestingContactTest, RestingStackReusesItsManifolds) {
   World world;
-  world.set_settings([] {
-    WorldSettings settings;
-    settings.sleep_enabled = false;
-    return settings;
-  }());
-  world.set_gravity(Vec3(0.0, -testing::kGravity, 0.0));
+  world.set_settings(testing::settings_without_sleep());
   world.add_body(ground_plane());
   const BodyId bottom = world.add_body(box_body(Vec3(0.0, 0.5, 0.0)));
   world.add_body(box_body(Vec3(0.0, 1.5, 0.0)));

@@ -30,6 +30,13 @@ inline BodyDesc sphere_body(const Vec3& position, double radius = 0.5, double ma
   return desc;
 }
 
+// The default settings with sleeping off: every body is stepped every step.
+inline WorldSettings settings_without_sleep() {
+  WorldSettings settings;
+  settings.sleep_enabled = false;
+  return settings;
+}
+
 // The plane y = 0, solid below.
 inline BodyDesc ground_plane() {
   BodyDesc desc;

@@ -194,11 +194,7 @@ TEST(SleepingTest, FreeBodiesDoNotSleep) {
 // does not.
 TEST(SleepingTest, SolverIslandsJoinThroughDynamicBodiesOnly) {
   World world;
-  world.set_settings([] {
-    WorldSettings settings;
-    settings.sleep_enabled = false;
-    return settings;
-  }());
+  world.set_settings(testing::settings_without_sleep());
   world.add_body(ground_plane());
   for (double x : {0.0, 3.0, 6.0}) {
     for (int k = 0; k < 3; ++k) world.add_body(box_body(Vec3(x, 0.5 + k, 0.0)));

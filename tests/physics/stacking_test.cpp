@@ -21,9 +21,7 @@ using testing::state_hash;
 
 World awake_world() {
   World world;
-  WorldSettings settings;
-  settings.sleep_enabled = false;
-  world.set_settings(settings);
+  world.set_settings(testing::settings_without_sleep());
   world.add_body(ground_plane());
   return world;
 }
