@@ -292,7 +292,8 @@ void ContactSolver::warm_start(const IslandView& island, std::span<SolverVelocit
         const Vec3 impulse =
             p.normal.impulse * c.normal + p.tangent1.impulse * c.tangent1 + p.tangent2.impulse * c.tangent2;
         v.linear += (sign * inverse_mass) * impulse;
-        v.angular += sign * (p.normal.impulse * p.normal.response[side] + p.tangent1.impulse * p.tangent1.response[side] +
+        v.angular += sign * (p.normal.impulse * p.normal.response[side] +
+                             p.tangent1.impulse * p.tangent1.response[side] +
                              p.tangent2.impulse * p.tangent2.response[side]);
       }
       velocities[body] = v;
