@@ -316,14 +316,10 @@ int main(int argc, char** argv) {
   server_config.http_host = http_host;
   server_config.http_port = http_port;
   tumble::net::Server server(io, *sim, server_config);
-  if (auto status = server.start(); !status.ok()) {
-    log->error("{}", status.message());
-    return 1;
-  }
-  // The HTTP port first: whoever waits for --port-file then finds both.
-  if (!http_port_file.empty()) write_port_file(http_port_file, server.http_port());
-  if (!port_file.empty()) write_port_file(port_file, server.port());
-
+  // The handlers are in place before anyone can learn the port: a SIGINT
+  // or SIGTERM sent as soon as the port file appears stops the server
+  // cleanly (saving the world) instead of killing it. One that comes
+  // before io.run() waits in the signal set until then.
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& error, int signal) {
     if (error) return;
@@ -331,6 +327,13 @@ int main(int argc, char** argv) {
     server.stop();
     io.stop();
   });
+  if (auto status = server.start(); !status.ok()) {
+    log->error("{}", status.message());
+    return 1;
+  }
+  // The HTTP port first: whoever waits for --port-file then finds both.
+  if (!http_port_file.empty()) write_port_file(http_port_file, server.http_port());
+  if (!port_file.empty()) write_port_file(port_file, server.port());
 
   sim->start();
   io.run();
