@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "physics/rotation.h"
+
 namespace tumble::physics {
 namespace {
 
@@ -220,6 +222,12 @@ void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> ve
   const bool moves_a = c.moving_side != 1, moves_b = c.moving_side != 0;
   const Mat3& inertia_a = bodies.inverse_inertia[c.body_a];
   const Mat3& inertia_b = bodies.inverse_inertia[c.body_b];
+  // I^-1 j: an isotropic inverse inertia s 1 (a cube's, a sphere's) makes
+  // it s j, three products instead of nine, the same numbers.
+  const bool isotropic_a = is_isotropic(inertia_a), isotropic_b = is_isotropic(inertia_b);
+  auto response = [](const Mat3& inertia, bool isotropic, const Vec3& jacobian) {
+    return isotropic ? Vec3(inertia(0, 0) * jacobian) : Vec3(inertia * jacobian);
+  };
   const double inverse_mass_sum = c.inverse_mass_a + c.inverse_mass_b;
   for (int k = 0; k < m.point_count; ++k) {
     const ManifoldPoint& mp = m.points[k];
@@ -231,12 +239,12 @@ void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> ve
       double k_row = inverse_mass_sum;
       if (moves_a) {
         row.jacobian[0] = ra.cross(d);
-        row.response[0] = inertia_a * row.jacobian[0];
+        row.response[0] = response(inertia_a, isotropic_a, row.jacobian[0]);
         k_row += row.jacobian[0].dot(row.response[0]);
       }
       if (moves_b) {
         row.jacobian[1] = rb.cross(d);
-        row.response[1] = inertia_b * row.jacobian[1];
+        row.response[1] = response(inertia_b, isotropic_b, row.jacobian[1]);
         k_row += row.jacobian[1].dot(row.response[1]);
       }
       row.mass = k_row > 0 ? 1.0 / k_row : 0.0;
