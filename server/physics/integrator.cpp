@@ -13,14 +13,15 @@ constexpr int kMaxMidpointIterations = 16;
 
 // w = I^-1 L with I^-1 = R I_body^-1 R^T (Baraff, "Angular Momentum").
 Vec3 angular_velocity_at(const Quat& q, const Vec3& angular_momentum, const Mat3& inverse_inertia_body) {
-  const Mat3 r = q.toRotationMatrix();
-  return r * (inverse_inertia_body * (r.transpose() * angular_momentum));
+  return apply_body_to_world_tensor(q.toRotationMatrix(), inverse_inertia_body, angular_momentum);
 }
 
 }  // namespace
 
 Quat advance_orientation(const Quat& orientation, const Vec3& angular_momentum, const Mat3& inverse_inertia_body,
                          double dt) {
+  // An isotropic body's w is the same at every orientation: w_mid is w,
+  // and there is no rotation to build.
   const bool isotropic = is_isotropic(inverse_inertia_body);
   Vec3 w_mid = isotropic ? Vec3(inverse_inertia_body(0, 0) * angular_momentum)
                          : angular_velocity_at(orientation, angular_momentum, inverse_inertia_body);

@@ -31,4 +31,9 @@ Mat3 body_to_world_tensor(const Mat3& r, const Mat3& tensor_body) {
   return r * tensor_body * r.transpose();
 }
 
+Vec3 apply_body_to_world_tensor(const Mat3& r, const Mat3& tensor_body, const Vec3& v) {
+  if (is_isotropic(tensor_body)) return tensor_body(0, 0) * v;
+  return r * (tensor_body * (r.transpose() * v));
+}
+
 }  // namespace tumble::physics

@@ -23,5 +23,8 @@ bool is_isotropic(const Mat3& t);
 Mat3 body_to_world_tensor(const Quat& q, const Mat3& tensor_body);
 // The same with R given.
 Mat3 body_to_world_tensor(const Mat3& r, const Mat3& tensor_body);
+// (R T R^T) v without forming the product: R (T (R^T v)), or c v for an
+// isotropic T = c 1.
+Vec3 apply_body_to_world_tensor(const Mat3& r, const Mat3& tensor_body, const Vec3& v);
 
 }  // namespace tumble::physics

@@ -95,10 +95,7 @@ void World::solve_contacts(double dt) {
     if (!is_dynamic(i)) continue;
     const Mat3& r = transforms_[i].rotation;
     states_[i].linear_momentum = masses_[i].mass * velocities_[i].linear;
-    const Mat3& inertia_body = masses_[i].inertia_body;
-    states_[i].angular_momentum = is_isotropic(inertia_body)
-                                      ? Vec3(inertia_body(0, 0) * velocities_[i].angular)
-                                      : Vec3(r * (inertia_body * (r.transpose() * velocities_[i].angular)));
+    states_[i].angular_momentum = apply_body_to_world_tensor(r, masses_[i].inertia_body, velocities_[i].angular);
   }
 }
 
