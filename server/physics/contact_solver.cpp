@@ -259,10 +259,10 @@ void ContactSolver::build_rows(Constraint& c, std::span<const SolverVelocity> ve
       p.relative_velocity = c.normal.dot(vb.linear - va.linear) + p.normal.jacobian[1].dot(vb.angular) -
                             p.normal.jacobian[0].dot(va.angular);
     } else {
-      const int side = c.moving_side;
-      const SolverVelocity& v = side == 1 ? vb : va;
-      const double sign = side == 1 ? 1.0 : -1.0;
-      p.relative_velocity = sign * c.normal.dot(v.linear) + sign * p.normal.jacobian[side].dot(v.angular);
+      const MovingBody moving = moving_body(c);
+      const SolverVelocity& v = velocities[moving.body];
+      p.relative_velocity =
+          moving.sign * c.normal.dot(v.linear) + moving.sign * p.normal.jacobian[moving.side].dot(v.angular);
     }
     p.max_normal_impulse = 0;
   }
@@ -278,6 +278,11 @@ void ContactSolver::reserve(std::size_t constraints) {
   island_order_.reserve(constraints);
 }
 
+ContactSolver::MovingBody ContactSolver::moving_body(const Constraint& c) {
+  if (c.moving_side == 1) return {1, c.body_b, c.inverse_mass_b, 1.0};
+  return {0, c.body_a, c.inverse_mass_a, -1.0};
+}
+
 ContactSolver::Motion ContactSolver::motion_of(std::uint32_t body, double inverse_mass, const SolverVelocity& velocity,
                                                double elapsed) const {
   if (inverse_mass != 0) return motion_[body];
@@ -287,24 +292,20 @@ ContactSolver::Motion ContactSolver::motion_of(std::uint32_t body, double invers
 void ContactSolver::warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const {
   for (const Constraint& c : island.constraints) {
     if (c.moving_side != kBothSides) {
-      // Body b takes the impulse, a its opposite (sign); the fixed one
-      // nothing.
-      const int side = c.moving_side;
-      const std::uint32_t body = side == 1 ? c.body_b : c.body_a;
-      const double sign = side == 1 ? 1.0 : -1.0;
-      const double inverse_mass = side == 1 ? c.inverse_mass_b : c.inverse_mass_a;
-      if (inverse_mass == 0) continue;
-      SolverVelocity v = velocities[body];
+      // The moving body alone; the fixed one takes nothing.
+      const MovingBody moving = moving_body(c);
+      if (moving.inverse_mass == 0) continue;
+      SolverVelocity v = velocities[moving.body];
       for (std::uint32_t k = 0; k < c.point_count; ++k) {
         const Point& p = points_[c.first_point + k];
         const Vec3 impulse =
             p.normal.impulse * c.normal + p.tangent1.impulse * c.tangent1 + p.tangent2.impulse * c.tangent2;
-        v.linear += (sign * inverse_mass) * impulse;
-        v.angular += sign * (p.normal.impulse * p.normal.response[side] +
-                             p.tangent1.impulse * p.tangent1.response[side] +
-                             p.tangent2.impulse * p.tangent2.response[side]);
+        v.linear += (moving.sign * moving.inverse_mass) * impulse;
+        v.angular += moving.sign * (p.normal.impulse * p.normal.response[moving.side] +
+                                   p.tangent1.impulse * p.tangent1.response[moving.side] +
+                                   p.tangent2.impulse * p.tangent2.response[moving.side]);
       }
-      velocities[body] = v;
+      velocities[moving.body] = v;
       continue;
     }
     SolverVelocity a = velocities[c.body_a];
@@ -418,10 +419,7 @@ void ContactSolver::solve_pass(const IslandView& island, std::span<SolverVelocit
 // impulse and a its opposite, so the moving body's share carries sign.
 void ContactSolver::one_sided_pass(const Constraint& c, const IslandView& island,
                                    std::span<SolverVelocity> velocities, bool soft) {
-  const int side = c.moving_side;
-  const std::uint32_t body = side == 1 ? c.body_b : c.body_a;
-  const double inverse_mass = side == 1 ? c.inverse_mass_b : c.inverse_mass_a;
-  const double sign = side == 1 ? 1.0 : -1.0;
+  const auto [side, body, inverse_mass, sign] = moving_body(c);
   Vec3 v = velocities[body].linear, w = velocities[body].angular;
   const Motion motion = motion_of(body, inverse_mass, velocities[body], island.elapsed);
   const double moved = sign * c.normal.dot(motion.displacement);

@@ -205,6 +205,17 @@ class ContactSolver {
 
   static constexpr std::uint8_t kBothSides = 2;
 
+  // The moving body of a constraint with a fixed one: its side (0 for a,
+  // 1 for b) and dense index, and the sign of its share of an impulse
+  // (body b takes the impulse, a its opposite).
+  struct MovingBody {
+    int side = 0;
+    std::uint32_t body = 0;
+    double inverse_mass = 0;
+    double sign = 0;
+  };
+  static MovingBody moving_body(const Constraint& c);
+
   std::uint32_t island_root(std::uint32_t body);
   void touch(std::uint32_t body);
   void solve_island(const Island& island, std::span<SolverVelocity> velocities);
