@@ -1,6 +1,7 @@
 // tumbled as a user starts it: flags, scene errors, signals.
 #include <gtest/gtest.h>
 
+#include <poll.h>
 #include <sched.h>
 #include <sys/inotify.h>
 #include <unistd.h>
@@ -53,6 +54,9 @@ TEST(Tumbled, ASignalAsSoonAsThePortFileAppearsStopsItCleanly) {
     alignas(inotify_event) char events[4096];
     bool appeared = false;
     while (!appeared) {
+      // Bounded: a tumbled that never listens fails the test, not hangs it.
+      pollfd ready{watch, POLLIN, 0};
+      ASSERT_EQ(poll(&ready, 1, 10000), 1) << "no port file within 10 s\n" << read_file(dir + "/log");
       const ssize_t length = read(watch, events, sizeof events);
       ASSERT_GT(length, 0);
       for (ssize_t at = 0; at < length;) {
