@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "sim/body_spec.h"
 #include "sim/log.h"
@@ -358,7 +359,7 @@ void Simulation::advance() {
   // hold their frames back (about a millisecond for 10,000 bodies on this
   // kind of machine, on every tick of a 60 Hz stream of all of them).
   if (!early_.empty()) publish(&early_, false, true);
-  publish(due == Due::every_body ? nullptr : &wanted_, false);
+  publish(due == Due::every_body ? nullptr : &collect_wanted(), false);
   edited_ = false;
 }
 
@@ -391,6 +392,32 @@ void Simulation::flush_events() {
   events_.clear();
 }
 
+namespace {
+
+// Adds the sorted, unique `ids` to the sorted, unique `into`: a merge, not
+// a sort (the filters are sorted already; 10,000 ids sorted every fan-out
+// tick cost the sim thread about 0.3 ms). `scratch` keeps its capacity.
+void merge_into(std::vector<physics::BodyId>& into, const std::vector<physics::BodyId>& ids,
+                std::vector<physics::BodyId>& scratch) {
+  if (into.empty()) {
+    into.assign(ids.begin(), ids.end());
+    return;
+  }
+  scratch.clear();
+  std::set_union(into.begin(), into.end(), ids.begin(), ids.end(), std::back_inserter(scratch));
+  into.swap(scratch);
+}
+
+// Whether a snapshot of `wanted` bodies by id is taken as a copy of every
+// body instead: most of the world costs less in one pass over the dense
+// arrays than a lookup a body, and covers the same. A set small enough to
+// go early never is (a tiny world keeps its filter).
+bool copies_every_body(std::size_t wanted, std::size_t world) {
+  return wanted > kEarlySnapshotBodies && 2 * wanted >= world;
+}
+
+}  // namespace
+
 Simulation::Due Simulation::publish_due() {
   {
     std::lock_guard lock(interest_mutex_);
@@ -400,32 +427,34 @@ Simulation::Due Simulation::publish_due() {
     }
   }
   bool every_body = snapshot_requested_.exchange(false, std::memory_order_relaxed);
-  wanted_.clear();
+  due_.clear();
   early_.clear();
-  std::size_t due = 0;
-  std::size_t early = 0;
-  for (const PublishInterest& interest : interest_) {
+  bool large = false;
+  for (std::size_t i = 0; i < interest_.size(); ++i) {
+    const PublishInterest& interest = interest_[i];
     if (interest.period_ticks == 0 || next_tick_ % interest.period_ticks != 0) continue;
     if (interest.all_bodies) {
       every_body = true;
       continue;
     }
-    wanted_.insert(wanted_.end(), interest.bodies.begin(), interest.bodies.end());
-    ++due;
+    due_.push_back(i);
     if (publishes_early(interest.all_bodies, interest.bodies)) {
-      early_.insert(early_.end(), interest.bodies.begin(), interest.bodies.end());
-      ++early;
+      merge_into(early_, interest.bodies, merge_scratch_);
+    } else {
+      large = true;
+      // The union holds at least these: most of the world on its own.
+      if (copies_every_body(interest.bodies.size(), world_.body_count())) every_body = true;
     }
   }
-  const auto sort_unique = [](std::vector<physics::BodyId>& ids) {
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  };
-  if (due > 1) sort_unique(wanted_);
-  if (early > 1) sort_unique(early_);
-  if (early == due && !every_body) early_.clear();  // nothing large to go before: early_ stays empty
+  if (!large && !every_body) early_.clear();  // nothing large to go before: early_ stays empty
   if (every_body) return Due::every_body;
-  return due > 0 ? Due::wanted_bodies : Due::nothing;
+  return due_.empty() ? Due::nothing : Due::wanted_bodies;
+}
+
+const std::vector<physics::BodyId>& Simulation::collect_wanted() {
+  wanted_.clear();
+  for (const std::size_t i : due_) merge_into(wanted_, interest_[i].bodies, merge_scratch_);
+  return wanted_;
 }
 
 void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows) {
@@ -435,11 +464,7 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   snapshot->sim_time = time_of(next_tick_);
   snapshot->out_of_band = out_of_band;
   snapshot->more_follows = more_follows;
-  // Most of the world asked for by id: every body in one pass over the
-  // dense arrays costs less than a lookup a body, and covers the same. A
-  // set small enough to go early never is (a tiny world keeps its filter).
-  const bool every_body =
-      bodies == nullptr || (bodies->size() > kEarlySnapshotBodies && 2 * bodies->size() >= world_.body_count());
+  const bool every_body = bodies == nullptr || copies_every_body(bodies->size(), world_.body_count());
   snapshot->all_bodies = every_body;
   std::size_t n = world_.body_count();
   if (!every_body) {

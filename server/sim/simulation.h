@@ -177,11 +177,15 @@ class Simulation {
   // this tick comes next.
   void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
   // Whether a snapshot is due after this tick: of every body when one was
-  // requested or a due interest wants all, else of the bodies collected in
-  // wanted_. early_ then holds the bodies of the due interests of at most
-  // kEarlySnapshotBodies bodies when there are larger ones beside them.
+  // requested, a due interest wants all or alone names most of the world,
+  // else of the due interests' bodies (collect_wanted). early_ then holds
+  // the bodies of the due interests of at most kEarlySnapshotBodies bodies
+  // when there are larger ones beside them: they are published before the
+  // large set is even gathered.
   enum class Due { nothing, wanted_bodies, every_body };
   Due publish_due();
+  // The union of the due interests' bodies, sorted, in wanted_.
+  const std::vector<physics::BodyId>& collect_wanted();
 
   void flush_events();
   // Reports, as events of `tick`, the dynamic bodies whose sleep changed
@@ -226,7 +230,9 @@ class Simulation {
   BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
   std::vector<Command> draining_;
   std::vector<PublishInterest> interest_;  // the sim thread's copy of published_interest_
-  std::vector<physics::BodyId> wanted_;     // bodies of the interests due at this tick, sorted
+  std::vector<std::size_t> due_;            // indices in interest_ of the interests due at this tick
+  std::vector<physics::BodyId> wanted_;     // their bodies, sorted (collect_wanted)
+  std::vector<physics::BodyId> merge_scratch_;
   std::vector<physics::BodyId> early_;      // those of the small ones, when larger ones are due too
   std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
   double dt_;                           // s, 1 / tick rate

@@ -1,7 +1,9 @@
 // The simulation applying commands, stepped tick by tick without the clock.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -301,6 +303,59 @@ TEST(SimulationSnapshots, SmallStreamsGoFirstAndMostOfTheWorldIsCopiedWhole) {
     EXPECT_TRUE(second.covers(false, most));
     EXPECT_TRUE(second.covers(false, {probe}));
   }
+}
+
+TEST(SimulationSnapshots, LargeStreamsDueTogetherGetTheUnionOfTheirBodies) {
+  // 400 spheres; two overlapping filters of 120 bodies each (every 2nd and
+  // every 3rd tick), neither nor their union most of the world, and a
+  // probe every tick.
+  std::string json = R"({"gravity": [0, 0, 0], "bodies": [)";
+  for (int i = 0; i < 400; ++i) {
+    json += std::string(i > 0 ? "," : "") + R"({"shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [)" +
+            std::to_string(i) + ", 0, 0]}";
+  }
+  tumble::v1::Scene scene;
+  ASSERT_TRUE(parse_scene_json(json + "]}", &scene).ok());
+  std::unique_ptr<Simulation> sim;
+  ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
+  std::vector<physics::BodyId> evens;  // 0, 2, ..., 238
+  std::vector<physics::BodyId> run;    // 100 .. 219
+  for (physics::BodyId id = 0; id < 240; id += 2) evens.push_back(id);
+  for (physics::BodyId id = 100; id < 220; ++id) run.push_back(id);
+  const physics::BodyId probe = 399;
+  sim->set_publish_interest(
+      {PublishInterest{3, false, run}, PublishInterest{1, false, {probe}}, PublishInterest{2, false, evens}});
+  std::vector<std::shared_ptr<const Snapshot>> snapshots;
+  sim->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  for (int i = 0; i < 6; ++i) sim->run_tick();  // ticks 1..6
+
+  // The large snapshot holds every due stream's bodies, the probe's too.
+  const auto with_probe = [&](std::vector<physics::BodyId> ids) {
+    ids.push_back(probe);
+    return ids;
+  };
+  std::vector<physics::BodyId> both;
+  std::set_union(evens.begin(), evens.end(), run.begin(), run.end(), std::back_inserter(both));
+  ASSERT_EQ(both.size(), 180u);
+  std::size_t k = 0;
+  for (std::uint64_t tick = 1; tick <= 6; ++tick) {
+    ASSERT_LT(k, snapshots.size());
+    const Snapshot& first = *snapshots[k++];
+    EXPECT_EQ(first.ids, (std::vector<physics::BodyId>{probe})) << "tick " << tick;
+    const bool large_due = tick % 2 == 0 || tick % 3 == 0;
+    EXPECT_EQ(first.more_follows, large_due) << "tick " << tick;
+    if (!large_due) continue;
+    ASSERT_LT(k, snapshots.size());
+    const Snapshot& second = *snapshots[k++];
+    EXPECT_EQ(second.tick, tick);
+    EXPECT_FALSE(second.all_bodies) << "at most 181 of 400 bodies keep their filter";
+    const std::vector<physics::BodyId> expected = with_probe(tick % 6 == 0 ? both : tick % 2 == 0 ? evens : run);
+    EXPECT_EQ(second.wanted, expected) << "tick " << tick;
+    EXPECT_EQ(second.ids, expected) << "tick " << tick;
+    EXPECT_EQ(second.covers(false, run), tick % 3 == 0) << "tick " << tick;
+    EXPECT_EQ(second.covers(false, evens), tick % 2 == 0) << "tick " << tick;
+  }
+  EXPECT_EQ(k, snapshots.size());
 }
 
 TEST_F(SimulationTest, SnapshotHoldsThePosesAfterTheStep) {
