@@ -231,7 +231,7 @@ void Publisher::send_frame(Stream& stream, const sim::Snapshot& snapshot, const 
     frame->tick = snapshot.tick;
     frame->sim_time = snapshot.sim_time;
     frame->velocities = stream.velocities;
-    frame->bodies = quantize(stream, snapshot);
+    frame->bodies = stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities);
     frame->sequence = ++stream.frames_made;
     fanout.delta = std::move(frame);
   } else {
@@ -270,22 +270,7 @@ void Publisher::serve_fanouts(bool all) {
   }
 }
 
-std::vector<wire::QuantizedBody> Publisher::quantize(const Stream& stream, const sim::Snapshot& snapshot) const {
-  std::vector<wire::QuantizedBody> bodies;
-  bodies.reserve(stream.all_bodies ? snapshot.body_count() : stream.bodies.size());
-  for (std::size_t i = 0; i < snapshot.body_count(); ++i) {
-    const physics::BodyId id = snapshot.ids[i];
-    if (!stream.all_bodies && !std::binary_search(stream.bodies.begin(), stream.bodies.end(), id)) continue;
-    bodies.push_back(wire::quantize_body(id, &snapshot.positions[3 * i], &snapshot.orientations[4 * i],
-                                         stream.velocities ? &snapshot.linear_velocities[3 * i] : nullptr,
-                                         stream.velocities ? &snapshot.angular_velocities[3 * i] : nullptr));
-  }
-  const auto by_id = [](const wire::QuantizedBody& a, const wire::QuantizedBody& b) { return a.id < b.id; };
-  if (!std::is_sorted(bodies.begin(), bodies.end(), by_id)) std::sort(bodies.begin(), bodies.end(), by_id);
-  return bodies;
-}
-
-std::shared_ptr<const std::string> Publisher::encode(const Stream& stream, const sim::Snapshot& snapshot) const {
+std::shared_ptr<const std::string> Publisher::encode(Stream& stream, const sim::Snapshot& snapshot) {
   tumble::v1::ServerMessage message;
   tumble::v1::PoseFrame& frame = *message.mutable_pose_frame();
   frame.set_subscription_id(stream.id);
@@ -293,7 +278,9 @@ std::shared_ptr<const std::string> Publisher::encode(const Stream& stream, const
   frame.set_sim_time(snapshot.sim_time);
   if (stream.encoding == tumble::v1::POSE_ENCODING_QUANTIZED) {
     frame.set_encoding(tumble::v1::POSE_ENCODING_QUANTIZED);
-    frame.set_packed(wire::encode_quantized_poses(quantize(stream, snapshot), stream.velocities));
+    const std::vector<wire::QuantizedBody> bodies =
+        stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities);
+    frame.set_packed(wire::encode_quantized_poses(bodies, stream.velocities));
     return std::make_shared<const std::string>(wire::encode_frame(message));
   }
   const std::size_t n = stream.all_bodies ? snapshot.body_count() : stream.bodies.size();

@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "net/asio.h"
+#include "net/quantize_memo.h"
 #include "net/quantized_frame.h"
 #include "sim/request_check.h"
 #include "sim/simulation.h"
@@ -111,6 +112,7 @@ class Publisher {
     std::uint64_t frames_made = 0;        // DELTA: the sequence number of the last QuantizedFrame made
     std::vector<Member> members;
     std::vector<Member> awaiting_first;   // joined since the last frame
+    QuantizeMemo memo;                    // QUANTIZED and DELTA: the bodies of its last frame on the grids
   };
 
   // A frame on its way to the members of a stream.
@@ -132,9 +134,7 @@ class Publisher {
   // Queues the stream's frame of `snapshot` for `targets`.
   void send_frame(Stream& stream, const sim::Snapshot& snapshot, const std::vector<Member>& targets);
   // A FULL or QUANTIZED frame, framed for the wire.
-  std::shared_ptr<const std::string> encode(const Stream& stream, const sim::Snapshot& snapshot) const;
-  // The stream's bodies on the quantization grids, sorted by id.
-  std::vector<wire::QuantizedBody> quantize(const Stream& stream, const sim::Snapshot& snapshot) const;
+  std::shared_ptr<const std::string> encode(Stream& stream, const sim::Snapshot& snapshot);
   // Tells the sim which bodies it must publish at which periods, and whether
   // anyone wants sleep events.
   void update_sim_interest();
