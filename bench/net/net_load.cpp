@@ -320,7 +320,8 @@ int main(int argc, char** argv) {
       "bytes_per_body_frame=%.2f bytes_per_body_frame_max=%.2f kbit_per_s_per_subscriber=%.1f "
       "frames=%llu frames_expected=%.0f frames_min_percent=%.1f "
       "latency_samples=%zu latency_lost=%llu latency_ms_p50=%.2f latency_ms_p99=%.2f latency_goal_ms=%.2f "
-      "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu\n",
+      "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f tick_cpu_ms_p99=%.2f tick_late_ms_p50=%.2f tick_late_ms_p99=%.2f "
+      "server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu\n",
       options.world.c_str(), options.encoding.c_str(), options.subscribers, options.bodies, options.rate_hz,
       after.tick_rate_hz(), options.seconds,
       total.body_slots > 0 ? static_cast<double>(total.bytes) / static_cast<double>(total.body_slots) : 0.0,
@@ -330,6 +331,7 @@ int main(int argc, char** argv) {
       tumble::bench::percentile(latency.latencies_ms, 0.5), tumble::bench::percentile(latency.latencies_ms, 0.99),
       1000 / after.tick_rate_hz() + 2, static_cast<unsigned long long>(after.overruns() - before.overruns()),
       static_cast<unsigned long long>(after.tick() - before.tick()), after.tick_ms_p50(), after.tick_ms_p99(),
+      after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(),
       server_cpu.c_str(), own_cpu.c_str(),
       static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
   return errors == 0 ? 0 : 3;

@@ -186,6 +186,10 @@ std::string format_stats(const tumble::v1::Stats& stats) {
       {"real-time factor", fixed(stats.real_time_factor(), 3)},
       {"tick time p50", fixed(stats.tick_ms_p50(), 3) + " ms"},
       {"tick time p99", fixed(stats.tick_ms_p99(), 3) + " ms"},
+      {"tick CPU p50", fixed(stats.tick_cpu_ms_p50(), 3) + " ms"},
+      {"tick CPU p99", fixed(stats.tick_cpu_ms_p99(), 3) + " ms"},
+      {"late start p50", fixed(stats.tick_start_late_ms_p50(), 3) + " ms"},
+      {"late start p99", fixed(stats.tick_start_late_ms_p99(), 3) + " ms"},
       {"overruns", std::to_string(stats.overruns())},
       {"bodies", std::to_string(stats.bodies()) + " (" + std::to_string(stats.bodies_awake()) + " awake, " +
                      std::to_string(stats.bodies_asleep()) + " asleep)"},
@@ -208,6 +212,10 @@ Json stats_json(const tumble::v1::Stats& stats) {
   out["real_time_factor"] = stats.real_time_factor();
   out["tick_ms_p50"] = stats.tick_ms_p50();
   out["tick_ms_p99"] = stats.tick_ms_p99();
+  out["tick_cpu_ms_p50"] = stats.tick_cpu_ms_p50();
+  out["tick_cpu_ms_p99"] = stats.tick_cpu_ms_p99();
+  out["tick_start_late_ms_p50"] = stats.tick_start_late_ms_p50();
+  out["tick_start_late_ms_p99"] = stats.tick_start_late_ms_p99();
   out["overruns"] = stats.overruns();
   out["bodies"] = stats.bodies();
   out["bodies_awake"] = stats.bodies_awake();

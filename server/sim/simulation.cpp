@@ -259,8 +259,11 @@ void Simulation::run_loop() {
   sim_log().info("stepping at {} Hz", tick_rate_hz());
 
   std::unique_lock lock(run_mutex_);
+  Clock::time_point due = start;  // when this pass should begin
   while (!stopping_) {
     lock.unlock();
+    // Late after a deadline: woken late, or behind (the last pass overran).
+    timing_.record_start_late(std::max(0.0, milliseconds(Clock::now() - due)));
     run_tick();
     checkpoint_if_due();
     ++ticks_since_start;
@@ -275,6 +278,7 @@ void Simulation::run_loop() {
     // Absolute deadlines: tick n ends at start + n * period, no accumulation of sleep error.
     const Clock::time_point deadline = start + ticks_since_start * period;
     const Clock::time_point now = Clock::now();
+    due = deadline;
     lock.lock();
     if (now < deadline) {
       run_wakeup_.wait_until(lock, deadline, [this] { return stopping_; });
@@ -285,12 +289,15 @@ void Simulation::run_loop() {
       sim_log().warn("fell {} ticks behind the clock; skipped them", missed);
       start = now;
       ticks_since_start = 0;
+      due = now;
     }
   }
 }
 
 void Simulation::run_tick() {
+  // CPU time read inside the wall-clock span, so a tick's is never above its wall time.
   Clock::time_point started = Clock::now();
+  double cpu_started = TickTiming::thread_cpu_ms();
   commands_.drain(draining_);
   for (Command& command : draining_) {
     record(command.message);
@@ -305,17 +312,20 @@ void Simulation::run_tick() {
 
   if (!paused_) {
     advance();
+    const double cpu_now = TickTiming::thread_cpu_ms();
     const Clock::time_point now = Clock::now();
-    timing_.record_step(milliseconds(now - started));
+    timing_.record_step(milliseconds(now - started), cpu_now - cpu_started);
   } else if (steps_left_ > 0) {
     // A Step: its ticks back to back, for at most one tick period of wall time per pass.
     const Clock::time_point budget_end =
         started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dt_));
     do {
       advance();
+      const double cpu_now = TickTiming::thread_cpu_ms();
       const Clock::time_point now = Clock::now();
-      timing_.record_step(milliseconds(now - started));
-      started = now;
+      timing_.record_step(milliseconds(now - started), cpu_now - cpu_started);
+      started = Clock::now();
+      cpu_started = TickTiming::thread_cpu_ms();
     } while (paused_ && steps_left_ > 0 && started < budget_end && !replaying_);
   } else {
     // No step: show edits at once, and serve a new subscriber's first frame.
@@ -780,6 +790,10 @@ ServerMessage Simulation::stats(const ClientMessage& message) const {
   stats.set_real_time_factor(paused_ ? 0.0 : timing_.real_time_factor());
   stats.set_tick_ms_p50(timing_.step_ms_quantile(0.5));
   stats.set_tick_ms_p99(timing_.step_ms_quantile(0.99));
+  stats.set_tick_cpu_ms_p50(timing_.step_cpu_ms_quantile(0.5));
+  stats.set_tick_cpu_ms_p99(timing_.step_cpu_ms_quantile(0.99));
+  stats.set_tick_start_late_ms_p50(timing_.start_late_ms_quantile(0.5));
+  stats.set_tick_start_late_ms_p99(timing_.start_late_ms_quantile(0.99));
   stats.set_overruns(overruns());
   stats.set_bodies(static_cast<std::uint32_t>(world_.body_count()));
   stats.set_bodies_awake(static_cast<std::uint32_t>(world_.awake_body_count()));

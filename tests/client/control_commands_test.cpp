@@ -189,6 +189,10 @@ tumble::v1::Stats sample_stats() {
   stats.set_real_time_factor(0.998);
   stats.set_tick_ms_p50(0.125);
   stats.set_tick_ms_p99(1.5);
+  stats.set_tick_cpu_ms_p50(0.1);
+  stats.set_tick_cpu_ms_p99(0.75);
+  stats.set_tick_start_late_ms_p50(0.05);
+  stats.set_tick_start_late_ms_p99(2.25);
   stats.set_overruns(2);
   stats.set_bodies(5);
   stats.set_bodies_awake(3);
@@ -200,12 +204,14 @@ tumble::v1::Stats sample_stats() {
 
 TEST(ControlOutput, StatsAsJsonAndText) {
   const nlohmann::json json = nlohmann::json::parse(json_line(stats_json(sample_stats())));
-  EXPECT_EQ(json.size(), 13u);
+  EXPECT_EQ(json.size(), 17u);
   EXPECT_EQ(json["tick"], 1234);
   EXPECT_EQ(json["sim_time"], 5.1416);
   EXPECT_EQ(json["paused"], true);
   EXPECT_EQ(json["tick_rate_hz"], 240.0);
   EXPECT_EQ(json["tick_ms_p99"], 1.5);
+  EXPECT_EQ(json["tick_cpu_ms_p99"], 0.75);
+  EXPECT_EQ(json["tick_start_late_ms_p99"], 2.25);
   EXPECT_EQ(json["overruns"], 2);
   EXPECT_EQ(json["bodies"], 5);
   EXPECT_EQ(json["bodies_asleep"], 2);
@@ -216,6 +222,8 @@ TEST(ControlOutput, StatsAsJsonAndText) {
   EXPECT_NE(text.find("tick              1234\n"), std::string::npos) << text;
   EXPECT_NE(text.find("paused            yes\n"), std::string::npos) << text;
   EXPECT_NE(text.find("tick time p99     1.500 ms\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("tick CPU p99      0.750 ms\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("late start p99    2.250 ms\n"), std::string::npos) << text;
   EXPECT_NE(text.find("bodies            5 (3 awake, 2 asleep)\n"), std::string::npos) << text;
 }
 

@@ -188,6 +188,13 @@ TEST_F(ControlCliTest, StatsJsonIsOneObjectWithTheServersFigures) {
   EXPECT_TRUE(stats["overruns"].is_number_unsigned());
   EXPECT_TRUE(stats["tick_ms_p99"].is_number());
   EXPECT_GE(stats["tick_ms_p99"].get<double>(), stats["tick_ms_p50"].get<double>());
+  // A tick's CPU time is read inside its wall-clock span; a pass woken by a
+  // timer begins after its deadline, never before.
+  EXPECT_GT(stats["tick_cpu_ms_p99"].get<double>(), 0.0);
+  EXPECT_LE(stats["tick_cpu_ms_p99"].get<double>(), stats["tick_ms_p99"].get<double>());
+  EXPECT_LE(stats["tick_cpu_ms_p50"].get<double>(), stats["tick_ms_p50"].get<double>());
+  EXPECT_GT(stats["tick_start_late_ms_p99"].get<double>(), 0.0);
+  EXPECT_GE(stats["tick_start_late_ms_p99"].get<double>(), stats["tick_start_late_ms_p50"].get<double>());
   EXPECT_DOUBLE_EQ(stats["tick_rate_hz"].get<double>(), 240);
   EXPECT_GT(stats["bytes_sent"].get<std::uint64_t>(), 0u);
 

@@ -606,6 +606,11 @@ TEST_F(ControlTest, StatsReportTheClockTheBodiesAndTheStepTimes) {
   EXPECT_EQ(stats.overruns(), 0u);
   EXPECT_GT(stats.tick_ms_p99(), 0.0);
   EXPECT_LE(stats.tick_ms_p50(), stats.tick_ms_p99());
+  // CPU time is read inside each tick's wall-clock span.
+  EXPECT_GT(stats.tick_cpu_ms_p99(), 0.0);
+  EXPECT_LE(stats.tick_cpu_ms_p50(), stats.tick_ms_p50());
+  EXPECT_LE(stats.tick_cpu_ms_p99(), stats.tick_ms_p99());
+  EXPECT_EQ(stats.tick_start_late_ms_p99(), 0.0) << "stepped by hand, not by the loop";
   EXPECT_EQ(stats.clients(), 0u) << "the network layer fills those";
 
   driver_.request(pause_message());

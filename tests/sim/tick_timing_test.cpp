@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+
 namespace tumble::sim {
 namespace {
 
@@ -18,16 +20,35 @@ TEST(TickTiming, NothingRecordedReadsZero) {
 
 TEST(TickTiming, QuantilesAreNearestRank) {
   TickTiming timing;
-  for (int ms = 100; ms >= 1; --ms) timing.record_step(ms);  // 1..100 ms, in any order
+  for (int ms = 100; ms >= 1; --ms) timing.record_step(ms, ms / 4.0);  // 1..100 ms, in any order
   EXPECT_EQ(timing.step_ms_quantile(0.5), 50.0);
   EXPECT_EQ(timing.step_ms_quantile(0.99), 99.0);
   EXPECT_EQ(timing.step_ms_quantile(1.0), 100.0);
+  EXPECT_EQ(timing.step_cpu_ms_quantile(0.5), 12.5);
+  EXPECT_EQ(timing.step_cpu_ms_quantile(1.0), 25.0);
+  EXPECT_EQ(timing.start_late_ms_quantile(0.99), 0.0) << "nothing recorded";
+  for (int i = 0; i < 99; ++i) timing.record_start_late(0.25);
+  timing.record_start_late(8);
+  EXPECT_EQ(timing.start_late_ms_quantile(0.5), 0.25);
+  EXPECT_EQ(timing.start_late_ms_quantile(0.99), 0.25);
+  EXPECT_EQ(timing.start_late_ms_quantile(1.0), 8.0);
+}
+
+TEST(TickTiming, ThreadCpuTimeCountsOnlyThisThreadsWork) {
+  const double before = TickTiming::thread_cpu_ms();
+  std::this_thread::sleep_for(milliseconds(50));  // asleep: next to no CPU time
+  EXPECT_LT(TickTiming::thread_cpu_ms() - before, 25.0);
+  // Busy until 20 ms of CPU time have passed: it then reads at least that.
+  volatile double sink = 0;
+  const double busy_from = TickTiming::thread_cpu_ms();
+  while (TickTiming::thread_cpu_ms() - busy_from < 20) sink = sink + 1;
+  EXPECT_GE(TickTiming::thread_cpu_ms() - before, 20.0);
 }
 
 TEST(TickTiming, OnlyTheLastWindowOfStepsCounts) {
   TickTiming timing;
-  for (std::size_t i = 0; i < TickTiming::kStepWindow; ++i) timing.record_step(1000);
-  for (std::size_t i = 0; i < TickTiming::kStepWindow; ++i) timing.record_step(2);
+  for (std::size_t i = 0; i < TickTiming::kStepWindow; ++i) timing.record_step(1000, 1);
+  for (std::size_t i = 0; i < TickTiming::kStepWindow; ++i) timing.record_step(2, 1);
   EXPECT_EQ(timing.step_ms_quantile(0.99), 2.0);
 }
 
