@@ -5,11 +5,13 @@
 // force-to-visible latency (bench/net/latency_probe.h), and from the server
 // its overruns (GetStats) and CPU (/proc, when it runs on this machine).
 // Optionally it also sends world-changing requests at a fixed rate
-// (bench/net/command_load.h). The subscribers' threads run at a lower
-// priority (--subscriber-nice, or --subscriber-idle): on one machine with
-// the server they would otherwise take the cores that clients elsewhere
-// would not. It prints one line of key=value fields
+// (bench/net/command_load.h). The subscribers share a few threads, each
+// waiting on its share of their sockets at once (--subscriber-threads),
+// at a lower priority (--subscriber-nice, or --subscriber-idle): on one
+// machine with the server they would otherwise take the cores that
+// clients elsewhere would not. It prints one line of key=value fields
 // (bench/README.md), and exits 3 when any request or stream failed.
+#include <poll.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/resource.h>
@@ -57,6 +59,7 @@ struct Options {
   pid_t server_pid = 0;
   unsigned spawners = 16;
   int subscriber_nice = 10;
+  unsigned subscriber_threads = 2;
   bool subscriber_idle = false;
 };
 
@@ -115,58 +118,99 @@ std::uint64_t framed_size(const tumble::v1::ServerMessage& message) {
   return body + prefix;
 }
 
-// One subscriber: subscribes to `bodies`, reports in through `ready` once
-// its first frame came, then counts inside the window. Frames are checked
-// and DELTA ones applied (PoseStream::apply), not converted to floats: the
-// load generator shares the machine with the server.
-Tally run_subscriber(const Options& options, unsigned index, const std::vector<std::uint32_t>& bodies,
-                     std::atomic<unsigned>& ready, const Window& window) {
-  set_thread_priority(options.subscriber_nice, options.subscriber_idle);
-  tumble::client::Connection connection =
-      tumble::bench::connect_or_exit(options.target, "net_load-" + std::to_string(index));
-  tumble::v1::Subscribe request;
-  request.set_rate_hz(options.rate_hz);
-  request.set_fields(tumble::v1::POSE_FIELDS_POSE);
-  request.set_encoding(encoding_of(options.encoding, index));
-  for (const std::uint32_t id : bodies) request.add_bodies()->set_id(id);
-  auto subscribed = connection.subscribe(request, std::chrono::seconds(30));
-  if (!subscribed) tumble::bench::exit_with("subscribe", subscribed.failure());
-
+// One subscriber: its connection, what it holds of its stream, and what
+// it counted.
+struct Subscriber {
+  unsigned index = 0;
+  tumble::client::Connection connection;
   tumble::client::PoseStream stream;
+  bool first = true;   // no frame yet
+  bool broken = false;
   Tally tally;
-  bool first = true;
-  while (!window.over(Clock::now())) {
-    auto message = connection.next_message(std::chrono::milliseconds(100));
-    if (!message) {
-      if (message.failure().kind == tumble::client::FailureKind::timeout) continue;
-      std::fprintf(stderr, "net_load: subscriber %u: %s\n", index, message.failure().message.c_str());
-      ++tally.errors;
-      break;
-    }
-    if (!message->has_pose_frame()) continue;
-    const Clock::time_point arrived = Clock::now();
-    auto count = stream.apply(message->pose_frame());
-    if (!count) {
-      std::fprintf(stderr, "net_load: subscriber %u: %s\n", index, count.failure().message.c_str());
-      ++tally.errors;
-      break;
-    }
-    if (first) {
-      first = false;
-      ++ready;
-    }
-    if (!window.contains(arrived)) continue;
-    const std::uint64_t bytes = framed_size(*message);
-    ++tally.frames;
-    tally.bytes += bytes;
-    tally.body_slots += *count;
-    if (*count > 0) {
-      tally.max_bytes_per_body =
-          std::max(tally.max_bytes_per_body, static_cast<double>(bytes) / static_cast<double>(*count));
-    }
+};
+
+// Takes one message a subscriber received: checks a frame and applies a
+// DELTA one (PoseStream::apply) without converting the values to floats
+// (the load generator shares the machine with the server), reports in
+// through `ready` at the first, and counts it inside the window.
+void take_message(Subscriber& subscriber, const tumble::v1::ServerMessage& message, std::atomic<unsigned>& ready,
+                  const Window& window) {
+  if (!message.has_pose_frame()) return;
+  const Clock::time_point arrived = Clock::now();
+  auto count = subscriber.stream.apply(message.pose_frame());
+  if (!count) {
+    std::fprintf(stderr, "net_load: subscriber %u: %s\n", subscriber.index, count.failure().message.c_str());
+    ++subscriber.tally.errors;
+    subscriber.broken = true;
+    return;
   }
-  if (first) ++ready;  // never got going: do not hold the others up
-  return tally;
+  if (subscriber.first) {
+    subscriber.first = false;
+    ++ready;
+  }
+  if (!window.contains(arrived)) return;
+  const std::uint64_t bytes = framed_size(message);
+  Tally& tally = subscriber.tally;
+  ++tally.frames;
+  tally.bytes += bytes;
+  tally.body_slots += *count;
+  if (*count > 0) {
+    tally.max_bytes_per_body =
+        std::max(tally.max_bytes_per_body, static_cast<double>(bytes) / static_cast<double>(*count));
+  }
+}
+
+// The subscribers `indices`, on the calling thread: each subscribes to
+// `bodies`, then one loop waits on all their sockets at once (poll(2)) and
+// takes what arrived on each, as a client program serving many streams
+// would, until the window ends. Their tallies go to `tallies`.
+void run_subscribers(const Options& options, const std::vector<unsigned>& indices,
+                     const std::vector<std::uint32_t>& bodies, std::atomic<unsigned>& ready, const Window& window,
+                     std::vector<Tally>& tallies) {
+  set_thread_priority(options.subscriber_nice, options.subscriber_idle);
+  std::vector<Subscriber> subscribers;
+  subscribers.reserve(indices.size());
+  for (const unsigned index : indices) {
+    tumble::client::Connection connection =
+        tumble::bench::connect_or_exit(options.target, "net_load-" + std::to_string(index));
+    tumble::v1::Subscribe request;
+    request.set_rate_hz(options.rate_hz);
+    request.set_fields(tumble::v1::POSE_FIELDS_POSE);
+    request.set_encoding(encoding_of(options.encoding, index));
+    for (const std::uint32_t id : bodies) request.add_bodies()->set_id(id);
+    auto subscribed = connection.subscribe(request, std::chrono::seconds(30));
+    if (!subscribed) tumble::bench::exit_with("subscribe", subscribed.failure());
+    subscribers.push_back(Subscriber{index, std::move(connection), {}, true, false, {}});
+  }
+
+  std::vector<pollfd> sockets;
+  while (!window.over(Clock::now())) {
+    // Everything that has arrived (a subscribe may have queued frames),
+    // then wait for more on every socket still open.
+    sockets.clear();
+    for (Subscriber& subscriber : subscribers) {
+      while (!subscriber.broken) {
+        auto message = subscriber.connection.poll_message();
+        if (message) {
+          take_message(subscriber, *message, ready, window);
+          continue;
+        }
+        if (message.failure().kind != tumble::client::FailureKind::timeout) {
+          std::fprintf(stderr, "net_load: subscriber %u: %s\n", subscriber.index, message.failure().message.c_str());
+          ++subscriber.tally.errors;
+          subscriber.broken = true;
+        }
+        break;
+      }
+      if (!subscriber.broken) sockets.push_back(pollfd{subscriber.connection.native_handle(), POLLIN, 0});
+    }
+    if (sockets.empty()) break;
+    ::poll(sockets.data(), sockets.size(), 100);
+  }
+  for (Subscriber& subscriber : subscribers) {
+    if (subscriber.first) ++ready;  // never got going: do not hold the others up
+    tallies[subscriber.index] = subscriber.tally;
+  }
 }
 
 tumble::v1::Stats stats_or_exit(tumble::client::Connection& controller) {
@@ -227,6 +271,11 @@ int main(int argc, char** argv) {
   app.add_option("--spawners", options.spawners, "Connections that spawn the world at once")
       ->capture_default_str()
       ->check(CLI::Range(1u, 256u));
+  app.add_option("--subscriber-threads", options.subscriber_threads,
+                 "Threads the subscribers share, each waiting on its share of their sockets at once "
+                 "(as many as --subscribers: a thread each)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 10000u));
   app.add_option("--subscriber-nice", options.subscriber_nice,
                  "Nice value of the subscribers' threads: they stand for clients on other machines, so by default "
                  "they take only the CPU the server leaves; the latency probe keeps the process's")
@@ -255,8 +304,11 @@ int main(int argc, char** argv) {
   std::atomic<unsigned> ready{0};
   std::vector<Tally> tallies(options.subscribers);
   std::vector<std::thread> threads;
-  for (unsigned i = 0; i < options.subscribers; ++i) {
-    threads.emplace_back([&, i] { tallies[i] = run_subscriber(options, i, world.bodies, ready, window); });
+  const unsigned subscriber_threads = std::min(options.subscriber_threads, options.subscribers);
+  std::vector<std::vector<unsigned>> shares(subscriber_threads);
+  for (unsigned i = 0; i < options.subscribers; ++i) shares[i % subscriber_threads].push_back(i);
+  for (const std::vector<unsigned>& share : shares) {
+    threads.emplace_back([&, share] { run_subscribers(options, share, world.bodies, ready, window, tallies); });
   }
   while (ready.load() < options.subscribers) std::this_thread::sleep_for(std::chrono::milliseconds(10));
 

@@ -1,13 +1,19 @@
 #include "tumble_client/connection.h"
 
+#include <poll.h>
+
 #include <atomic>
 #include <chrono>
+#include <future>
+#include <string>
+#include <string_view>
 
 #include <boost/asio.hpp>
 #include <gtest/gtest.h>
 
 #include "scripted_messages.h"
 #include "scripted_server.h"
+#include "wire/frame.h"
 
 namespace tumble::client {
 namespace {
@@ -94,6 +100,86 @@ TEST(Connection, RequestReturnsItsAckAndQueuesTheFrameThatCameFirst) {
   auto nothing = connection->next_message(50ms);
   ASSERT_FALSE(nothing.ok());
   EXPECT_EQ(nothing.failure().kind, FailureKind::timeout);
+}
+
+// Waits up to kGenerous for the connection's socket to be readable.
+bool wait_readable(Connection& connection) {
+  pollfd descriptor{connection.native_handle(), POLLIN, 0};
+  return ::poll(&descriptor, 1, 5000) == 1;
+}
+
+// Polls the connection as a caller that waits on many would, until a
+// message or a failure other than timeout comes (or kGenerous passes).
+Result<ServerMessage> poll_until_message(Connection& connection) {
+  const auto give_up = Clock::now() + kGenerous;
+  for (;;) {
+    auto message = connection.poll_message();
+    if (message.ok() || message.failure().kind != FailureKind::timeout || Clock::now() > give_up) return message;
+    wait_readable(connection);
+  }
+}
+
+TEST(Connection, PollMessageTakesWhatHasArrivedWithoutWaiting) {
+  std::promise<void> go;
+  std::future<void> went = go.get_future();
+  const std::string second = wire::encode_frame(pose_frame(3, 9));
+  ScriptedServer server([&](ServerPeer& peer) {
+    accept_hello(peer);
+    peer.send(pose_frame(3, 8));
+    peer.send_bytes(std::string_view(second).substr(0, second.size() / 2));  // half a frame
+    went.wait();
+    peer.send_bytes(std::string_view(second).substr(second.size() / 2));
+    peer.close();
+  });
+  auto connection = Connection::connect(server.endpoint(), "test-client", "", kGenerous);
+  ASSERT_TRUE(connection.ok()) << connection.failure().message;
+
+  auto first = poll_until_message(*connection);
+  ASSERT_TRUE(first.ok()) << first.failure().message;
+  ASSERT_TRUE(first->has_pose_frame());
+  EXPECT_EQ(first->pose_frame().tick(), 8u);
+  // Half of the next frame, at most: nothing whole, and no waiting for it.
+  const auto start = Clock::now();
+  auto nothing = connection->poll_message();
+  ASSERT_FALSE(nothing.ok());
+  EXPECT_EQ(nothing.failure().kind, FailureKind::timeout);
+  EXPECT_LT(Clock::now() - start, 1s);
+
+  go.set_value();
+  auto rest = poll_until_message(*connection);
+  ASSERT_TRUE(rest.ok()) << rest.failure().message;
+  EXPECT_EQ(rest->pose_frame().tick(), 9u) << "the half read before is kept";
+  auto closed = poll_until_message(*connection);
+  ASSERT_FALSE(closed.ok());
+  EXPECT_EQ(closed.failure().kind, FailureKind::closed);
+  EXPECT_EQ(closed.failure().message, "connection closed by the server");
+}
+
+TEST(Connection, PollMessageHandsOverWhatARequestQueuedFirst) {
+  ScriptedServer server([&](ServerPeer& peer) {
+    accept_hello(peer);
+    auto request = peer.receive();
+    ASSERT_TRUE(request.has_value());
+    peer.send(pose_frame(3, 8));
+    peer.send(ack(request->request_id(), 9));
+    peer.wait_for_close();
+  });
+  auto connection = Connection::connect(server.endpoint(), "test-client", "", kGenerous);
+  ASSERT_TRUE(connection.ok()) << connection.failure().message;
+  auto reply = connection->apply_force(force_on("crate"), kGenerous);
+  ASSERT_TRUE(reply.ok()) << reply.failure().message;
+
+  // The frame was read while waiting for the Ack: the socket has nothing more.
+  auto frame = connection->poll_message();
+  ASSERT_TRUE(frame.ok()) << frame.failure().message;
+  EXPECT_EQ(frame->pose_frame().tick(), 8u);
+  auto nothing = connection->poll_message();
+  ASSERT_FALSE(nothing.ok());
+  EXPECT_EQ(nothing.failure().kind, FailureKind::timeout);
+  // Still usable by the blocking calls.
+  auto later = connection->next_message(50ms);
+  ASSERT_FALSE(later.ok());
+  EXPECT_EQ(later.failure().kind, FailureKind::timeout);
 }
 
 TEST(Connection, WorldEventsThatComeBeforeAReplyAreQueuedInOrder) {

@@ -92,6 +92,13 @@ std::uint64_t echoed_request_id(const ServerMessage& message) {
   }
 }
 
+// Whether a message is one next_message() hands over: a pose frame, a
+// world event or a connection-level error (anything else is a late reply).
+bool is_unsolicited(const ServerMessage& message) {
+  return message.has_pose_frame() || message.has_world_event() ||
+         (message.has_error() && message.error().request_id() == 0);
+}
+
 // Moves one payload out of a reply, e.g. the Ack out of an Ack reply.
 template <typename Payload>
 Result<Payload> take_payload(Result<ServerMessage> reply, Payload* (ServerMessage::*payload)()) {
@@ -125,6 +132,14 @@ struct Connection::State {
   // Reads the next whole message. A timeout leaves the connection usable:
   // no bytes are lost, a partial frame stays buffered.
   Result<ServerMessage> read(const Deadline& deadline, const std::string& activity);
+
+  // The next whole message among the bytes read so far; none while they do
+  // not make one. A malformed frame breaks the connection.
+  std::optional<Result<ServerMessage>> take_buffered();
+
+  // Reads what has arrived, without waiting, until a message is whole;
+  // fails with kind timeout when none is, and the connection stays usable.
+  Result<ServerMessage> read_available();
 
   Endpoint endpoint;
   asio::io_context io{1};
@@ -171,29 +186,54 @@ std::optional<Failure> Connection::State::write(const ClientMessage& message, co
   return std::nullopt;
 }
 
+std::optional<Result<ServerMessage>> Connection::State::take_buffered() {
+  std::string_view body;
+  switch (reader.next(body)) {
+    case wire::FrameStatus::frame: {
+      ServerMessage message;
+      if (!message.ParseFromArray(body.data(), static_cast<int>(body.size()))) {
+        return fail(Failure{FailureKind::protocol, "the server sent a frame of " + std::to_string(body.size()) +
+                                                       " bytes that is not a tumble.v1.ServerMessage"});
+      }
+      return message;
+    }
+    case wire::FrameStatus::too_large:
+      return fail(Failure{FailureKind::protocol, "the server announced a frame of " +
+                                                     std::to_string(reader.declared_bytes()) +
+                                                     " bytes, over the client's limit of " +
+                                                     std::to_string(reader.max_frame_bytes()) + " bytes"});
+    case wire::FrameStatus::bad_length:
+      return fail(Failure{FailureKind::protocol, "the server sent a frame length that is not a valid varint"});
+    case wire::FrameStatus::need_more:
+      break;
+  }
+  return std::nullopt;
+}
+
+Result<ServerMessage> Connection::State::read_available() {
+  for (;;) {
+    if (broken) return *broken;
+    if (auto buffered = take_buffered()) return std::move(*buffered);
+    // Asio's synchronous read then returns would_block instead of waiting;
+    // its asynchronous operations, which the other calls use, are unaffected.
+    ErrorCode error;
+    socket.non_blocking(true, error);
+    const std::size_t received = error ? 0 : socket.read_some(asio::buffer(read_buffer), error);
+    if (error == asio::error::would_block || error == asio::error::try_again) {
+      return Failure{FailureKind::timeout, "no whole message has arrived from " + to_string(endpoint)};
+    }
+    if (error == asio::error::eof) return fail(Failure{FailureKind::closed, "connection closed by the server"});
+    if (error) {
+      return fail(Failure{FailureKind::closed, "connection to " + to_string(endpoint) + " lost: " + error.message()});
+    }
+    reader.append(read_buffer.data(), received);
+  }
+}
+
 Result<ServerMessage> Connection::State::read(const Deadline& deadline, const std::string& activity) {
   for (;;) {
     if (broken) return *broken;
-    std::string_view body;
-    switch (reader.next(body)) {
-      case wire::FrameStatus::frame: {
-        ServerMessage message;
-        if (!message.ParseFromArray(body.data(), static_cast<int>(body.size()))) {
-          return fail(Failure{FailureKind::protocol, "the server sent a frame of " + std::to_string(body.size()) +
-                                                         " bytes that is not a tumble.v1.ServerMessage"});
-        }
-        return message;
-      }
-      case wire::FrameStatus::too_large:
-        return fail(Failure{FailureKind::protocol, "the server announced a frame of " +
-                                                       std::to_string(reader.declared_bytes()) +
-                                                       " bytes, over the client's limit of " +
-                                                       std::to_string(reader.max_frame_bytes()) + " bytes"});
-      case wire::FrameStatus::bad_length:
-        return fail(Failure{FailureKind::protocol, "the server sent a frame length that is not a valid varint"});
-      case wire::FrameStatus::need_more:
-        break;
-    }
+    if (auto buffered = take_buffered()) return std::move(*buffered);
 
     bool done = false;
     ErrorCode error = asio::error::operation_aborted;
@@ -430,12 +470,24 @@ Result<ServerMessage> Connection::next_message(Timeout timeout) {
   const Deadline deadline = deadline_after(timeout);
   for (;;) {
     auto received = state.read(deadline, "waiting for a message from the server");
-    if (!received) return received;
-    const ServerMessage& message = received.value();
-    if (message.has_pose_frame() || message.has_world_event()) return received;
-    if (message.has_error() && message.error().request_id() == 0) return received;
+    if (!received || is_unsolicited(received.value())) return received;
     // Anything else is a late reply to a request that timed out.
   }
 }
+
+Result<ServerMessage> Connection::poll_message() {
+  State& state = *state_;
+  if (!state.unsolicited.empty()) {
+    ServerMessage message = std::move(state.unsolicited.front());
+    state.unsolicited.pop_front();
+    return message;
+  }
+  for (;;) {
+    auto received = state.read_available();
+    if (!received || is_unsolicited(received.value())) return received;
+  }
+}
+
+int Connection::native_handle() { return state_->socket.native_handle(); }
 
 }  // namespace tumble::client

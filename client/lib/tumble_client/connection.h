@@ -101,6 +101,18 @@ class Connection {
   // usable), closed when the server closed the connection, or protocol.
   Result<tumble::v1::ServerMessage> next_message(Timeout timeout);
 
+  // next_message() without waiting: a queued message, or the next one whose
+  // bytes have all arrived. Fails with kind timeout when none is whole yet
+  // (the connection stays usable; a partial frame stays buffered), closed
+  // or protocol as next_message() does. For a caller that waits on many
+  // connections at once (poll(2) on native_handle()): messages may be
+  // queued, so call it until it times out before waiting again.
+  Result<tumble::v1::ServerMessage> poll_message();
+
+  // The socket's descriptor, to wait on with poll(2) or epoll; the
+  // Connection still owns it: do not read from it or close it.
+  int native_handle();
+
  private:
   struct State;
   explicit Connection(std::unique_ptr<State> state);
