@@ -287,8 +287,12 @@ int main(int argc, char** argv) {
   }
 
   // This thread becomes the I/O thread (io.run() below); the sim thread,
-  // started after it, inherits its scheduling. The checkpoint writer,
-  // started above, keeps ordinary scheduling: it writes files.
+  // started after it, inherits its scheduling: a short slice of the fair
+  // scheduler, or SCHED_FIFO. The checkpoint writer, started above, keeps
+  // ordinary scheduling: it writes files.
+  if (auto status = tumble::request_short_slice(); !status.ok()) {
+    log->warn("{}; ticks may start late on a busy machine", status.message());
+  }
   if (realtime_priority > 0) {
     if (auto status = tumble::enter_realtime(realtime_priority); !status.ok()) {
       log->error("--realtime-priority {}: {}", realtime_priority, status.message());

@@ -4,6 +4,8 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdint>
@@ -34,7 +36,31 @@ bool rlimit_allows(int priority) {
   return limit.rlim_cur == RLIM_INFINITY || limit.rlim_cur >= static_cast<rlim_t>(priority);
 }
 
+// sched_setattr's argument (linux/sched/types.h, whose sched_param clashes
+// with glibc's), up to the fields it reads for SCHED_OTHER.
+struct SchedAttr {
+  std::uint32_t size;
+  std::uint32_t sched_policy;
+  std::uint64_t sched_flags;
+  std::int32_t sched_nice;
+  std::uint32_t sched_priority;
+  std::uint64_t sched_runtime;  // ns: the slice, for a fair policy
+  std::uint64_t sched_deadline;
+  std::uint64_t sched_period;
+};
+
 }  // namespace
+
+sim::Status request_short_slice() {
+  SchedAttr attr{};
+  attr.size = sizeof attr;
+  attr.sched_policy = SCHED_OTHER;
+  attr.sched_nice = getpriority(PRIO_PROCESS, 0);  // keep this thread's nice value
+  attr.sched_runtime = kShortSliceNanoseconds;
+  if (syscall(SYS_sched_setattr, 0, &attr, 0U) == 0) return {};
+  return sim::Status::error(std::string("the kernel refused a time slice of ") +
+                            std::to_string(kShortSliceNanoseconds / 1000) + " us (" + std::strerror(errno) + ")");
+}
 
 sim::Status enter_realtime(int priority) {
   if (priority < kMinRealtimePriority || priority > kMaxRealtimePriority) {

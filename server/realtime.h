@@ -23,6 +23,20 @@ namespace tumble {
 constexpr int kMinRealtimePriority = 1;
 constexpr int kMaxRealtimePriority = 99;
 
+// The time slice request_short_slice() asks for.
+constexpr long kShortSliceNanoseconds = 100'000;
+
+// Asks the kernel's fair scheduler for a short time slice for the calling
+// thread (sched_setattr's sched_runtime; honoured by EEVDF, Linux 6.12 and
+// later, ignored before). The sim and I/O threads run in short bursts and
+// must start on time: with the default slice (0.7 ms times a factor for
+// the cores) a CPU-bound ordinary thread that a tick's wake-up finds on
+// the core may run out its slice first, and a lower priority does not
+// shorten it. A task with a short slice gets an early deadline and cuts
+// the running task's protected slice to its own. Threads started
+// afterwards inherit it. Unprivileged; changes no priority or share.
+sim::Status request_short_slice();
+
 // Puts the calling thread under SCHED_FIFO at `priority` (1 to 99). Threads
 // it starts afterwards inherit the policy and priority (std::thread creates
 // them with the default attributes, whose inherit-scheduler is

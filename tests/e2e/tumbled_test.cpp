@@ -4,9 +4,11 @@
 #include <poll.h>
 #include <sched.h>
 #include <sys/inotify.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <csignal>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -115,8 +117,41 @@ TEST(Tumbled, AddressInUseIsAClearError) {
 struct ThreadScheduling {
   int policy = -1;
   int priority = -1;
-  int count = 0;  // threads of that name (the last one's policy is kept)
+  std::uint64_t slice_ns = 0;  // a fair-scheduled thread's time slice (sched_getattr), 0 where not reported
+  int count = 0;               // threads of that name (the last one's policy is kept)
 };
+
+// sched_getattr's result (linux/sched/types.h clashes with glibc's sched.h).
+struct SchedAttr {
+  std::uint32_t size;
+  std::uint32_t sched_policy;
+  std::uint64_t sched_flags;
+  std::int32_t sched_nice;
+  std::uint32_t sched_priority;
+  std::uint64_t sched_runtime;
+  std::uint64_t sched_deadline;
+  std::uint64_t sched_period;
+};
+
+std::uint64_t slice_of(pid_t tid) {
+  SchedAttr attr{};
+  if (syscall(SYS_sched_getattr, tid, &attr, sizeof attr, 0U) != 0) return 0;
+  return attr.sched_runtime;
+}
+
+// Whether this kernel lets a thread choose its fair time slice (EEVDF,
+// Linux 6.12 and later), tried on a thread of its own.
+bool kernel_takes_slices() {
+  bool taken = false;
+  std::thread([&] {
+    SchedAttr attr{};
+    attr.size = sizeof attr;
+    attr.sched_policy = SCHED_OTHER;
+    attr.sched_runtime = 200'000;
+    taken = syscall(SYS_sched_setattr, 0, &attr, 0U) == 0 && slice_of(static_cast<pid_t>(gettid())) == 200'000;
+  }).join();
+  return taken;
+}
 std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
   std::map<std::string, ThreadScheduling> threads;
   std::error_code error;
@@ -128,6 +163,7 @@ std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
     scheduling.policy = sched_getscheduler(tid);
     sched_param param{};
     if (sched_getparam(tid, &param) == 0) scheduling.priority = param.sched_priority;
+    scheduling.slice_ns = slice_of(tid);
     ThreadScheduling& entry = threads[tid == pid ? std::string("main") : name];
     scheduling.count = entry.count + 1;
     entry = scheduling;
@@ -173,6 +209,27 @@ TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
   const auto threads = threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 1}});
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
+  for (const auto& [name, scheduling] : threads) EXPECT_EQ(scheduling.policy, SCHED_OTHER) << name;
+}
+
+TEST(Tumbled, TheSimAndNetworkThreadsAskForAShortSlice) {
+  if (!kernel_takes_slices()) GTEST_SKIP() << "this kernel does not let a thread choose its time slice";
+  const std::string dir = make_temp_dir();
+  TumbledProcess server(kScene, {"--physics-threads", "2", "--state", dir + "/world.state", "--checkpoint-interval",
+                                 "60"});
+  ASSERT_TRUE(server.started()) << server.log();
+  const auto threads = threads_once_running(server.process().pid(),
+                                           {{"tumbled-sim", 1}, {"tumble-physics", 1}, {"tumbled-saver", 1}});
+  ASSERT_TRUE(threads.contains("main")) << server.log();
+  ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
+  ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
+  ASSERT_TRUE(threads.contains("tumbled-saver")) << server.log();
+  // 100 us (server/realtime.h), for the threads whose wake-ups must not
+  // wait out another thread's slice, the helpers inheriting the sim's.
+  EXPECT_EQ(threads.at("main").slice_ns, 100'000u);
+  EXPECT_EQ(threads.at("tumbled-sim").slice_ns, 100'000u);
+  EXPECT_EQ(threads.at("tumble-physics").slice_ns, 100'000u);
+  EXPECT_NE(threads.at("tumbled-saver").slice_ns, 100'000u) << "the checkpoint writer keeps the default";
   for (const auto& [name, scheduling] : threads) EXPECT_EQ(scheduling.policy, SCHED_OTHER) << name;
 }
 
