@@ -59,7 +59,7 @@ struct Options {
   pid_t server_pid = 0;
   unsigned spawners = 16;
   int subscriber_nice = 10;
-  unsigned subscriber_threads = 2;
+  unsigned subscriber_threads = 25;
   bool subscriber_idle = false;
 };
 
