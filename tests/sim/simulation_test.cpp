@@ -265,18 +265,25 @@ TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
   EXPECT_EQ(only.orientations[0], sim_->world().orientation(ball_).w());
 }
 
-TEST(SimulationSnapshots, SmallStreamsGoFirstAndMostOfTheWorldIsCopiedWhole) {
-  // 200 spheres: a probe of one body every tick, and 150 bodies by id
-  // every fourth tick (a viewer of most of the world).
+// A world of `count` spheres 1 m apart along x, without gravity (ids 0 ..
+// count - 1); null if it could not be made.
+std::unique_ptr<Simulation> row_of_spheres(int count) {
   std::string json = R"({"gravity": [0, 0, 0], "bodies": [)";
-  for (int i = 0; i < 200; ++i) {
+  for (int i = 0; i < count; ++i) {
     json += std::string(i > 0 ? "," : "") + R"({"shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [)" +
             std::to_string(i) + ", 0, 0]}";
   }
   tumble::v1::Scene scene;
-  ASSERT_TRUE(parse_scene_json(json + "]}", &scene).ok());
   std::unique_ptr<Simulation> sim;
-  ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
+  if (!parse_scene_json(json + "]}", &scene).ok() || !Simulation::create(scene, SimConfig{}, &sim).ok()) return nullptr;
+  return sim;
+}
+
+TEST(SimulationSnapshots, SmallStreamsGoFirstAndMostOfTheWorldIsCopiedWhole) {
+  // 200 spheres: a probe of one body every tick, and 150 bodies by id
+  // every fourth tick (a viewer of most of the world).
+  std::unique_ptr<Simulation> sim = row_of_spheres(200);
+  ASSERT_TRUE(sim);
   std::vector<physics::BodyId> most;
   for (physics::BodyId id = 10; id < 160; ++id) most.push_back(id);
   const physics::BodyId probe = 3;
@@ -309,15 +316,8 @@ TEST(SimulationSnapshots, LargeStreamsDueTogetherGetTheUnionOfTheirBodies) {
   // 400 spheres; two overlapping filters of 120 bodies each (every 2nd and
   // every 3rd tick), neither nor their union most of the world, and a
   // probe every tick.
-  std::string json = R"({"gravity": [0, 0, 0], "bodies": [)";
-  for (int i = 0; i < 400; ++i) {
-    json += std::string(i > 0 ? "," : "") + R"({"shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [)" +
-            std::to_string(i) + ", 0, 0]}";
-  }
-  tumble::v1::Scene scene;
-  ASSERT_TRUE(parse_scene_json(json + "]}", &scene).ok());
-  std::unique_ptr<Simulation> sim;
-  ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
+  std::unique_ptr<Simulation> sim = row_of_spheres(400);
+  ASSERT_TRUE(sim);
   std::vector<physics::BodyId> evens;  // 0, 2, ..., 238
   std::vector<physics::BodyId> run;    // 100 .. 219
   for (physics::BodyId id = 0; id < 240; id += 2) evens.push_back(id);
