@@ -39,8 +39,8 @@ std::vector<wire::QuantizedBody> QuantizeMemo::quantize(const sim::Snapshot& sna
     }
     const double* position = &snapshot.positions[3 * i];
     const double* orientation = &snapshot.orientations[4 * i];
-    const double* linear = &snapshot.linear_velocities[3 * i];
-    const double* angular = &snapshot.angular_velocities[3 * i];
+    const double* linear = velocities ? &snapshot.linear_velocities[3 * i] : nullptr;
+    const double* angular = velocities ? &snapshot.angular_velocities[3 * i] : nullptr;
     // One body of the last call missing here (it left): step over it.
     if (last + 1 < ids_.size() && ids_[last] != id && ids_[last + 1] == id) ++last;
     const bool matched = last < ids_.size() && ids_[last] == id;
@@ -49,8 +49,7 @@ std::vector<wire::QuantizedBody> QuantizeMemo::quantize(const sim::Snapshot& sna
         (!velocities || (same_bits(linear, kept + 7, 3) && same_bits(angular, kept + 10, 3)))) {
       next_records_.push_back(records_[last]);
     } else {
-      next_records_.push_back(wire::quantize_body(id, position, orientation, velocities ? linear : nullptr,
-                                                  velocities ? angular : nullptr));
+      next_records_.push_back(wire::quantize_body(id, position, orientation, linear, angular));
       ++quantized_last_;
     }
     if (matched) ++last;
