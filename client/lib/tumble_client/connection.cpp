@@ -133,6 +133,14 @@ struct Connection::State {
   // no bytes are lost, a partial frame stays buffered.
   Result<ServerMessage> read(const Deadline& deadline, const std::string& activity);
 
+  // The oldest message a request queued while it waited for its reply.
+  std::optional<ServerMessage> take_queued() {
+    if (unsolicited.empty()) return std::nullopt;
+    ServerMessage message = std::move(unsolicited.front());
+    unsolicited.pop_front();
+    return message;
+  }
+
   // The next whole message among the bytes read so far; none while they do
   // not make one. A malformed frame breaks the connection.
   std::optional<Result<ServerMessage>> take_buffered();
@@ -462,11 +470,7 @@ Result<tumble::v1::Stats> Connection::get_stats(Timeout timeout) {
 
 Result<ServerMessage> Connection::next_message(Timeout timeout) {
   State& state = *state_;
-  if (!state.unsolicited.empty()) {
-    ServerMessage message = std::move(state.unsolicited.front());
-    state.unsolicited.pop_front();
-    return message;
-  }
+  if (auto queued = state.take_queued()) return std::move(*queued);
   const Deadline deadline = deadline_after(timeout);
   for (;;) {
     auto received = state.read(deadline, "waiting for a message from the server");
@@ -477,11 +481,7 @@ Result<ServerMessage> Connection::next_message(Timeout timeout) {
 
 Result<ServerMessage> Connection::poll_message() {
   State& state = *state_;
-  if (!state.unsolicited.empty()) {
-    ServerMessage message = std::move(state.unsolicited.front());
-    state.unsolicited.pop_front();
-    return message;
-  }
+  if (auto queued = state.take_queued()) return std::move(*queued);
   for (;;) {
     auto received = state.read_available();
     if (!received || is_unsolicited(received.value())) return received;
