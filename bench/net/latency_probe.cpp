@@ -21,7 +21,7 @@ struct Pending {
   bool waiting = false;  // a change was sent and not yet seen
   double speed = 0;      // m/s along x, the value being waited for
   Clock::time_point sent;
-  std::vector<double> latencies_ms;
+  Clock::time_point arrived;  // of the first frame that showed it
 };
 
 // Reads the watcher's frames until `stop`, stamping the first that shows
@@ -42,7 +42,7 @@ bool watch(client::Connection& watcher, Pending& pending, const std::atomic<bool
     const double seen = static_cast<double>(sample->bodies[0].linear_velocity[0]);
     std::lock_guard lock(pending.mutex);
     if (!pending.waiting || std::abs(seen - pending.speed) > 0.01) continue;
-    pending.latencies_ms.push_back(std::chrono::duration<double, std::milli>(arrived - pending.sent).count());
+    pending.arrived = arrived;
     pending.waiting = false;
     pending.seen_changed.notify_all();
   }
@@ -52,7 +52,7 @@ bool watch(client::Connection& watcher, Pending& pending, const std::atomic<bool
 }  // namespace
 
 LatencyResult measure_latency(const LoadTarget& target, std::uint32_t probe, double tick_rate_hz,
-                              tumble::v1::PoseEncoding encoding, Clock::time_point end) {
+                              tumble::v1::PoseEncoding encoding, Clock::time_point start, Clock::time_point end) {
   client::Connection controller = connect_or_exit(target, "net_load-latency-controller");
   client::Connection watcher = connect_or_exit(target, "net_load-latency-watcher");
   tumble::v1::Subscribe request;
@@ -88,7 +88,14 @@ LatencyResult measure_latency(const LoadTarget& target, std::uint32_t probe, dou
     if (!ack) ++result.errors;
     {
       std::unique_lock lock(pending.mutex);
-      if (!pending.seen_changed.wait_for(lock, std::chrono::seconds(2), [&] { return !pending.waiting; })) {
+      if (pending.seen_changed.wait_for(lock, std::chrono::seconds(2), [&] { return !pending.waiting; })) {
+        LatencySample sample;
+        sample.sent_s = std::chrono::duration<double>(pending.sent - start).count();
+        sample.latency_ms = std::chrono::duration<double, std::milli>(pending.arrived - pending.sent).count();
+        sample.applied_tick = ack ? ack->applied_tick() : 0;
+        result.samples.push_back(sample);
+        result.latencies_ms.push_back(sample.latency_ms);
+      } else {
         ++result.lost;
         pending.waiting = false;
       }
@@ -100,8 +107,6 @@ LatencyResult measure_latency(const LoadTarget& target, std::uint32_t probe, dou
   stop = true;
   watching.join();
   if (watcher_broke) ++result.errors;
-  std::lock_guard lock(pending.mutex);
-  result.latencies_ms = pending.latencies_ms;
   return result;
 }
 

@@ -21,16 +21,25 @@
 
 namespace tumble::bench {
 
-struct LatencyResult {
-  std::vector<double> latencies_ms;  // one per change seen
-  std::uint64_t lost = 0;            // changes not seen within 2 s
-  std::uint64_t errors = 0;          // failed requests or a broken watcher stream
+// One change seen: when it was sent and how long until a frame showed it.
+struct LatencySample {
+  double sent_s = 0;              // seconds after the measurement's start
+  double latency_ms = 0;          // send to the arrival of the first frame showing it
+  std::uint64_t applied_tick = 0;  // the tick the server applied it at (its Ack); 0 when the Ack failed
 };
 
-// Runs until `end`. `tick_rate_hz` is the server's; the watcher's stream
-// is in `encoding`.
+struct LatencyResult {
+  std::vector<double> latencies_ms;    // one per change seen
+  std::vector<LatencySample> samples;  // the same changes, in the order they were sent
+  std::uint64_t lost = 0;              // changes not seen within 2 s
+  std::uint64_t errors = 0;            // failed requests or a broken watcher stream
+};
+
+// Runs from `start` until `end`. `tick_rate_hz` is the server's; the
+// watcher's stream is in `encoding`.
 LatencyResult measure_latency(const LoadTarget& target, std::uint32_t probe, double tick_rate_hz,
-                              tumble::v1::PoseEncoding encoding, std::chrono::steady_clock::time_point end);
+                              tumble::v1::PoseEncoding encoding, std::chrono::steady_clock::time_point start,
+                              std::chrono::steady_clock::time_point end);
 
 // The p-th quantile (0 < p <= 1) of `values`, nearest rank; 0 when empty.
 double percentile(std::vector<double> values, double p);

@@ -61,6 +61,7 @@ struct Options {
   int subscriber_nice = 10;
   unsigned subscriber_threads = 25;
   bool subscriber_idle = false;
+  std::string latency_log;  // a CSV of every latency sample; none when empty
 };
 
 // Gives the calling thread this nice value (Linux: per thread), and with
@@ -284,7 +285,20 @@ int main(int argc, char** argv) {
   app.add_flag("--subscriber-idle", options.subscriber_idle,
                "Run the subscribers' threads under SCHED_IDLE (Linux): a core only when the server and the probe "
                "want none, the nearest one machine comes to clients on others");
+  app.add_option("--latency-log", options.latency_log,
+                 "Write every latency sample to this file, a CSV line each: sent_s (seconds into the window), "
+                 "latency_ms, applied_tick (the server's tick that applied the change)");
   CLI11_PARSE(app, argc, argv);
+
+  // Opened first, so that a path it cannot write fails before any load.
+  std::FILE* latency_log = nullptr;
+  if (!options.latency_log.empty()) {
+    latency_log = std::fopen(options.latency_log.c_str(), "w");
+    if (latency_log == nullptr) {
+      std::perror(("net_load: " + options.latency_log).c_str());
+      return 1;
+    }
+  }
 
   tumble::client::Connection controller = tumble::bench::connect_or_exit(options.target, "net_load");
   // Paused while the world is built and the subscribers join, so that the
@@ -329,7 +343,7 @@ int main(int argc, char** argv) {
   tumble::bench::LatencyResult latency;
   threads.emplace_back([&] {
     latency = tumble::bench::measure_latency(options.target, world.probe, before.tick_rate_hz(),
-                                             encoding_of(options.encoding, 0), end);
+                                             encoding_of(options.encoding, 0), start, end);
   });
   tumble::bench::CommandTally commands;
   if (options.commands_per_second > 0) {
@@ -386,5 +400,16 @@ int main(int argc, char** argv) {
       after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(),
       server_cpu.c_str(), own_cpu.c_str(),
       static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
+  if (latency_log != nullptr) {
+    std::fprintf(latency_log, "sent_s,latency_ms,applied_tick\n");
+    for (const tumble::bench::LatencySample& sample : latency.samples) {
+      std::fprintf(latency_log, "%.6f,%.3f,%llu\n", sample.sent_s, sample.latency_ms,
+                   static_cast<unsigned long long>(sample.applied_tick));
+    }
+    if (std::fclose(latency_log) != 0) {
+      std::perror(("net_load: " + options.latency_log).c_str());
+      return 1;
+    }
+  }
   return errors == 0 ? 0 : 3;
 }

@@ -4,6 +4,13 @@
 // fails. Timing figures (latency, CPU, overruns) are printed, not checked.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -97,6 +104,61 @@ TEST(NetLoadSmoke, FallingCubesWithCommandsAndMixedEncodings) {
   expect_frames_and_no_errors(report, 3);
   EXPECT_GT(number(report, "commands"), 0);
   EXPECT_GT(number(report, "bytes_per_body_frame"), 0);
+}
+
+// --latency-log: a CSV line for each change timed, the same samples the
+// report's quantiles come from.
+TEST(NetLoadSmoke, LatencyLogHoldsEveryTimedChange) {
+  const std::filesystem::path log =
+      std::filesystem::temp_directory_path() / ("tumble-latency-log-" + std::to_string(::getpid()) + ".csv");
+  TumbledProcess server(kNoGravity);
+  ASSERT_TRUE(server.started()) << server.log();
+  const Report report = run_net_load(server, {"--subscribers", "1", "--bodies", "10", "--latency-log", log.string()});
+  std::ifstream in(log);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line)) << "no " << log;
+  EXPECT_EQ(line, "sent_s,latency_ms,applied_tick");
+  std::vector<double> sent, latency;
+  std::vector<unsigned long long> tick;
+  while (std::getline(in, line)) {
+    double s = 0, l = 0;
+    unsigned long long t = 0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%llu", &s, &l, &t), 3) << line;
+    sent.push_back(s);
+    latency.push_back(l);
+    tick.push_back(t);
+  }
+  std::filesystem::remove(log);
+  // About 20 changes a second; a second's window holds several.
+  ASSERT_GE(sent.size(), 3u);
+  EXPECT_EQ(static_cast<double>(sent.size()), number(report, "latency_samples"));
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_GE(sent[i], 0);
+    EXPECT_LT(sent[i], 1.0);  // within the one-second window
+    EXPECT_GT(latency[i], 0);
+    EXPECT_GT(tick[i], 0u);
+    if (i == 0) continue;
+    // Sent at least 20 ms apart, so at later ticks (240 Hz).
+    EXPECT_GE(sent[i] - sent[i - 1], 0.019);
+    EXPECT_GT(tick[i], tick[i - 1]);
+  }
+  // The report's p99 is the nearest-rank quantile of these samples.
+  std::sort(latency.begin(), latency.end());
+  const double p99 = latency[static_cast<std::size_t>(std::ceil(0.99 * static_cast<double>(latency.size()))) - 1];
+  EXPECT_NEAR(number(report, "latency_ms_p99"), p99, 0.006);
+}
+
+// A log it cannot write stops net_load before it loads the server.
+// (No server listens on port 1: had it connected first, the error would be
+// the refused connection.)
+TEST(NetLoadSmoke, UnwritableLatencyLogFailsFirst) {
+  const CommandResult result = run_command(
+      {TUMBLE_NET_LOAD_PATH, "--server", "127.0.0.1:1", "--latency-log", "/nonexistent-dir/latency.csv"},
+      std::chrono::seconds(30));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("/nonexistent-dir/latency.csv"), std::string::npos) << result.err;
+  EXPECT_EQ(result.out, "");
 }
 
 }  // namespace
