@@ -153,6 +153,14 @@ std::string shape_name(const tumble::v1::Shape& shape) {
   return "";
 }
 
+std::string motion_name(tumble::v1::Motion motion) {
+  switch (motion) {
+    case tumble::v1::MOTION_STATIC: return "static";
+    case tumble::v1::MOTION_KINEMATIC: return "kinematic";
+    default: return "dynamic";
+  }
+}
+
 std::string format_ack(const tumble::v1::Ack& ack) {
   return "applied at tick " + std::to_string(ack.applied_tick()) + "\n";
 }
@@ -258,20 +266,20 @@ Json world_event_json(const tumble::v1::WorldEvent& event) {
 }
 
 std::string format_body_table(const tumble::v1::BodyList& list) {
-  constexpr std::size_t kColumns = 7;
+  constexpr std::size_t kColumns = 8;
   using Row = std::array<std::string, kColumns>;
   // Numbers line up on the right, words on the left.
-  constexpr std::array<bool, kColumns> kRightAligned = {true, false, false, true, false, true, false};
+  constexpr std::array<bool, kColumns> kRightAligned = {true, false, false, false, true, false, true, false};
 
   std::vector<Row> rows;
-  rows.push_back({"ID", "NAME", "SHAPE", "MASS (kg)", "POSITION (m)", "SPEED (m/s)", "ASLEEP"});
+  rows.push_back({"ID", "NAME", "SHAPE", "MOTION", "MASS (kg)", "POSITION (m)", "SPEED (m/s)", "ASLEEP"});
   for (const auto& body : list.bodies()) {
     const auto& p = body.position();
     const auto& v = body.linear_velocity();
     const double speed = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
     const std::string shape = shape_name(body.shape());
     rows.push_back({std::to_string(body.id()), display_name(body.id(), body.name()), shape.empty() ? "-" : shape,
-                    fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3),
+                    motion_name(body.motion()), fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3),
                     body.asleep() ? "yes" : "no"});
   }
 
@@ -286,6 +294,7 @@ Json body_list_json(const tumble::v1::BodyList& list) {
     entry["name"] = body.name();
     const std::string shape = shape_name(body.shape());
     entry["shape"] = shape.empty() ? Json(nullptr) : Json(shape);
+    entry["motion"] = motion_name(body.motion());
     entry["mass"] = body.mass();
     entry["position"] = json_array(body.position());
     entry["orientation"] = json_array(body.orientation());

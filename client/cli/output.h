@@ -29,8 +29,13 @@ using BodyNames = std::unordered_map<std::uint32_t, std::string>;
 // The names in a BodyList.
 BodyNames body_names(const tumble::v1::BodyList& list);
 
-// "box", "sphere", "capsule" or "points"; "" when the shape is not set.
+// "box", "sphere", "capsule", "points", "plane" or "convex"; "" when the
+// shape is not set.
 std::string shape_name(const tumble::v1::Shape& shape);
+
+// "dynamic", "static" or "kinematic" (a value this version does not know:
+// "dynamic", the wire's default).
+std::string motion_name(tumble::v1::Motion motion);
 
 // "applied at tick 1234\n".
 std::string format_ack(const tumble::v1::Ack& ack);

@@ -212,4 +212,13 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
   return {};
 }
 
+tumble::v1::Motion wire_motion(physics::MotionType type) {
+  switch (type) {
+    case physics::MotionType::static_body: return tumble::v1::MOTION_STATIC;
+    case physics::MotionType::kinematic_body: return tumble::v1::MOTION_KINEMATIC;
+    case physics::MotionType::dynamic_body: break;
+  }
+  return tumble::v1::MOTION_DYNAMIC;
+}
+
 }  // namespace tumble::sim

@@ -28,4 +28,7 @@ inline constexpr int kMaxConvexPoints = 4096;
 Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where,
                            physics::BodyDesc* desc);
 
+// The wire's name for how a body moves.
+tumble::v1::Motion wire_motion(physics::MotionType type);
+
 }  // namespace tumble::sim

@@ -608,6 +608,7 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
     o->set_z(q.z());
     set_vec3(world_.linear_velocity(id), info->mutable_linear_velocity());
     set_vec3(world_.angular_velocity(id), info->mutable_angular_velocity());
+    info->set_motion(wire_motion(world_.motion_type(id)));
     info->set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
   }
   return reply;

@@ -20,15 +20,6 @@ bool finite(const tumble::v1::Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
-tumble::v1::Motion motion_of(physics::MotionType type) {
-  switch (type) {
-    case physics::MotionType::static_body: return tumble::v1::MOTION_STATIC;
-    case physics::MotionType::kinematic_body: return tumble::v1::MOTION_KINEMATIC;
-    case physics::MotionType::dynamic_body: break;
-  }
-  return tumble::v1::MOTION_DYNAMIC;
-}
-
 }  // namespace
 
 tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory,
@@ -39,7 +30,7 @@ tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirect
     *spec.mutable_shape() = entry->shape;
     spec.set_mass(entry->mass);
   }
-  spec.set_motion(motion_of(world.motion_type(id)));
+  spec.set_motion(wire_motion(world.motion_type(id)));
   spec.set_friction(world.friction(id));
   spec.set_restitution(world.restitution(id));
   set_vec3(world.position(id), spec.mutable_position());

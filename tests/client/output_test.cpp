@@ -29,7 +29,7 @@ client::PoseSample two_body_sample() {
   return sample;
 }
 
-tumble::v1::BodyList two_body_list() {
+tumble::v1::BodyList four_body_list() {
   tumble::v1::BodyList list;
   list.set_request_id(2);
   list.set_tick(77);
@@ -53,6 +53,18 @@ tumble::v1::BodyList two_body_list() {
   ball->set_mass(1);
   ball->mutable_orientation()->set_w(1);
   ball->set_asleep(true);
+  auto* turntable = list.add_bodies();
+  turntable->set_id(11);
+  turntable->set_name("turntable");
+  turntable->mutable_shape()->mutable_box()->mutable_half_extents()->set_x(1);
+  turntable->set_motion(tumble::v1::MOTION_KINEMATIC);
+  turntable->mutable_orientation()->set_w(1);
+  turntable->mutable_angular_velocity()->set_y(0.5);
+  auto* ground = list.add_bodies();
+  ground->set_id(12);
+  ground->mutable_shape()->mutable_plane()->mutable_normal()->set_y(1);
+  ground->set_motion(tumble::v1::MOTION_STATIC);
+  ground->mutable_orientation()->set_w(1);
   return list;
 }
 
@@ -117,13 +129,14 @@ TEST(PoseSampleText, HeaderAndOneLinePerBody) {
 }
 
 TEST(BodyListJson, EveryField) {
-  const nlohmann::json json = nlohmann::json::parse(json_line(body_list_json(two_body_list())));
+  const nlohmann::json json = nlohmann::json::parse(json_line(body_list_json(four_body_list())));
   EXPECT_EQ(json["tick"], 77);
-  ASSERT_EQ(json["bodies"].size(), 2u);
+  ASSERT_EQ(json["bodies"].size(), 4u);
   const nlohmann::json& crate = json["bodies"][0];
   EXPECT_EQ(crate["id"], 4);
   EXPECT_EQ(crate["name"], "crate");
   EXPECT_EQ(crate["shape"], "box");
+  EXPECT_EQ(crate["motion"], "dynamic");
   EXPECT_EQ(crate["mass"], 12.5);
   EXPECT_EQ(crate["position"], nlohmann::json::array({0.0, 1.25, 0.0}));
   EXPECT_EQ(crate["orientation"], nlohmann::json::array({0.5, 0.25, -0.25, 0.75}));
@@ -132,6 +145,9 @@ TEST(BodyListJson, EveryField) {
   EXPECT_EQ(crate["asleep"], false);
   EXPECT_EQ(json["bodies"][1]["shape"], "sphere");
   EXPECT_EQ(json["bodies"][1]["asleep"], true);
+  EXPECT_EQ(json["bodies"][2]["motion"], "kinematic");
+  EXPECT_EQ(json["bodies"][3]["motion"], "static");
+  EXPECT_EQ(json["bodies"][3]["shape"], "plane");
 
   tumble::v1::BodyList shapeless;
   shapeless.add_bodies()->set_id(1);
@@ -139,22 +155,26 @@ TEST(BodyListJson, EveryField) {
 }
 
 TEST(BodyTable, AlignedColumnsWithTheNumbers) {
-  const std::string table = format_body_table(two_body_list());
+  const std::string table = format_body_table(four_body_list());
   std::istringstream lines(table);
-  std::string header, crate, ball, extra;
+  std::string header, crate, ball, turntable, ground, extra;
   std::getline(lines, header);
   std::getline(lines, crate);
   std::getline(lines, ball);
+  std::getline(lines, turntable);
+  std::getline(lines, ground);
   EXPECT_FALSE(std::getline(lines, extra));
 
-  EXPECT_EQ(header, "ID  NAME   SHAPE   MASS (kg)  POSITION (m)           SPEED (m/s)  ASLEEP");
-  EXPECT_EQ(crate, " 4  crate  box        12.500  (0.000, 1.250, 0.000)        5.000  no");
-  EXPECT_EQ(ball, "10  ball   sphere      1.000  (0.000, 0.000, 0.000)        0.000  yes");
+  EXPECT_EQ(header, "ID  NAME       SHAPE   MOTION     MASS (kg)  POSITION (m)           SPEED (m/s)  ASLEEP");
+  EXPECT_EQ(crate, " 4  crate      box     dynamic       12.500  (0.000, 1.250, 0.000)        5.000  no");
+  EXPECT_EQ(ball, "10  ball       sphere  dynamic        1.000  (0.000, 0.000, 0.000)        0.000  yes");
+  EXPECT_EQ(turntable, "11  turntable  box     kinematic      0.000  (0.000, 0.000, 0.000)        0.000  no");
+  EXPECT_EQ(ground, "12  #12        plane   static         0.000  (0.000, 0.000, 0.000)        0.000  no");
 }
 
 TEST(BodyTable, EmptyWorldIsJustTheHeader) {
   tumble::v1::BodyList empty;
-  EXPECT_EQ(format_body_table(empty), "ID  NAME  SHAPE  MASS (kg)  POSITION (m)  SPEED (m/s)  ASLEEP\n");
+  EXPECT_EQ(format_body_table(empty), "ID  NAME  SHAPE  MOTION  MASS (kg)  POSITION (m)  SPEED (m/s)  ASLEEP\n");
 }
 
 TEST(Ack, TextAndJson) {
@@ -166,10 +186,12 @@ TEST(Ack, TextAndJson) {
 }
 
 TEST(BodyNames, FromBodyList) {
-  const BodyNames names = body_names(two_body_list());
-  ASSERT_EQ(names.size(), 2u);
+  const BodyNames names = body_names(four_body_list());
+  ASSERT_EQ(names.size(), 4u);
   EXPECT_EQ(names.at(4), "crate");
   EXPECT_EQ(names.at(10), "ball");
+  EXPECT_EQ(names.at(11), "turntable");
+  EXPECT_EQ(names.at(12), "");
 }
 
 TEST(JsonLine, SpacedLikeTheDocumentationAndEscaped) {

@@ -105,6 +105,30 @@ TEST_F(ControlProtocolTest, SpawnIsAckedWithTheNewBodysId) {
   EXPECT_FALSE(bodies.body_list().bodies(2).asleep());
 }
 
+// A kinematic body standing still has no velocity and no mass either, like
+// a static one: only the motion tells them apart.
+TEST_F(ControlProtocolTest, TheBodyListSaysHowEachBodyMoves) {
+  ClientMessage wall = spawn(1, "wall", 0.5);
+  wall.mutable_spawn_body()->mutable_body()->set_motion(tumble::v1::MOTION_STATIC);
+  ASSERT_TRUE(call(wall).has_ack());
+  ClientMessage lift = spawn(2, "lift", 0.5);
+  lift.mutable_spawn_body()->mutable_body()->set_motion(tumble::v1::MOTION_KINEMATIC);
+  ASSERT_TRUE(call(lift).has_ack());
+
+  ClientMessage list;
+  list.set_request_id(3);
+  list.mutable_list_bodies();
+  const ServerMessage bodies = call(list);
+  ASSERT_EQ(bodies.body_list().bodies_size(), 4);
+  EXPECT_EQ(bodies.body_list().bodies(0).name(), "crate");
+  EXPECT_EQ(bodies.body_list().bodies(0).motion(), tumble::v1::MOTION_DYNAMIC);
+  EXPECT_EQ(bodies.body_list().bodies(2).name(), "wall");
+  EXPECT_EQ(bodies.body_list().bodies(2).motion(), tumble::v1::MOTION_STATIC);
+  EXPECT_EQ(bodies.body_list().bodies(3).name(), "lift");
+  EXPECT_EQ(bodies.body_list().bodies(3).motion(), tumble::v1::MOTION_KINEMATIC);
+  EXPECT_EQ(bodies.body_list().bodies(3).mass(), 0);
+}
+
 TEST_F(ControlProtocolTest, ABadSpawnGetsInvalidArgumentAndTheSessionGoesOn) {
   const ServerMessage negative = call(spawn(1, "rock", -1));
   ASSERT_TRUE(negative.has_error());

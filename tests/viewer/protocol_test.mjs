@@ -26,6 +26,7 @@ if (missing) {
 const { FrameReader, FramingError, encodeFrame } = await import("../../web/src/framing.js");
 const { ProtocolError, Session } = await import("../../web/src/protocol.js");
 const { protocolTypes } = await import("../../web/src/schema.js");
+const { bodyMotion } = await import("../../web/src/body_motion.js");
 const { loadProtocolRoot } = await import("../../web/proto-schema.mjs");
 const types = protocolTypes(loadProtocolRoot());
 const kWaitMs = 20000;  // generous bound for anything the server should do at once
@@ -101,6 +102,7 @@ test("a session decodes the handshake, the body list, frames and replies of the 
     assert.deepEqual(byName.get("dumbbell").shape.points.masses, [1, 1, 0.5]);
     assert.equal(byName.get("crate").mass, 2);
     assert.equal(byName.get("ball").position.x, 3);
+    assert.equal(bodyMotion(byName.get("crate")), "dynamic");
 
     const subscribed = await session.request("subscribe", {
       rateHz: 60,
@@ -138,10 +140,22 @@ test("a session decodes the handshake, the body list, frames and replies of the 
     assert.equal(event.bodyId, spawned.bodyId);
     assert.equal(event.bodyName, "rock");
 
+    // Static and kinematic (standing still: no velocity, no mass) told apart by their motion.
+    await session.request("spawnBody", {
+      body: { name: "wall", shape: { box: { halfExtents: { x: 1, y: 1, z: 0.1 } } }, motion: types.Motion.MOTION_STATIC,
+              position: { x: 0, y: 0, z: -5 } },
+    });
+    await session.request("spawnBody", {
+      body: { name: "lift", shape: { box: { halfExtents: { x: 1, y: 0.1, z: 1 } } }, motion: types.Motion.MOTION_KINEMATIC,
+              position: { x: 0, y: 0, z: 5 } },
+    });
+    const motions = new Map((await session.request("listBodies")).bodies.map((body) => [body.name, bodyMotion(body)]));
+    assert.deepEqual([motions.get("crate"), motions.get("wall"), motions.get("lift")], ["dynamic", "static", "kinematic"]);
+
     await assert.rejects(session.request("applyImpulse", { body: { name: "nobody" }, impulse: { x: 1 } }),
                          (error) => error instanceof ProtocolError && error.codeName === "UNKNOWN_BODY");
     const stats = await session.request("getStats");  // the session goes on after an Error
-    assert.equal(stats.bodies, 6);
+    assert.equal(stats.bodies, 8);
     assert.ok(stats.tick >= pushed.tick);
     socket.destroy();
   } finally {

@@ -4,6 +4,7 @@
 // TickClock (interpolation) -> WorldView (three.js), with Hud, Inspector and
 // PointerControl around it.
 import descriptor from "tumble:protocol-descriptor";
+import { bodyMotion } from "./body_motion.js";
 import { Connection } from "./connection.js";
 import { Hud } from "./hud.js";
 import { Inspector } from "./inspector.js";
@@ -11,7 +12,7 @@ import { PoseBuffer, TickClock } from "./interpolation.js";
 import { PointerControl } from "./pointer.js";
 import { protocolTypes, rootFromDescriptor } from "./schema.js";
 import { installTestHook } from "./test_hook.js";
-import { WorldView, bodyMotion } from "./world_view.js";
+import { WorldView } from "./world_view.js";
 
 // Pose frames asked for, per second; the server rounds to a divisor of its
 // tick rate and says what it chose.

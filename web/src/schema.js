@@ -21,6 +21,7 @@ export function protocolTypes(root) {
     PoseEncoding: root.lookupEnum("tumble.v1.PoseEncoding").values,
     PoseFields: root.lookupEnum("tumble.v1.PoseFields").values,
     ProtocolVersion: root.lookupEnum("tumble.v1.ProtocolVersion").values,
+    Motion: root.lookupEnum("tumble.v1.Motion").values,
     roleName: (value) => root.lookupEnum("tumble.v1.Role").valuesById[value] ?? `ROLE_${value}`,
     errorName: (value) => root.lookupEnum("tumble.v1.ErrorCode").valuesById[value] ?? `ERROR_${value}`,
   };

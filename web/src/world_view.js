@@ -5,6 +5,7 @@
 // the server sends them.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
+import { bodyMotion } from "./body_motion.js";
 import { makeGrid } from "./grid.js";
 import { shapeGeometry } from "./shapes.js";
 
@@ -14,15 +15,6 @@ const kGroundColor = new THREE.Color(0x3b4350);
 const kBackground = new THREE.Color(0x1d2127);
 const kSelectedGlow = new THREE.Color(0x2f6bff);
 const kAsleepDimming = 0.55;  // colour factor of a sleeping body
-
-// What the viewer knows of a body: the server's BodyInfo and how it moves.
-// BodyInfo has no motion type: a body of mass 0 is static or kinematic, and
-// one of those that is given a velocity is kinematic.
-export function bodyMotion(info) {
-  if (info.mass > 0) return "dynamic";
-  const moving = (v) => v && (v.x || v.y || v.z);
-  return moving(info.linearVelocity) || moving(info.angularVelocity) ? "kinematic" : "static";
-}
 
 // A dynamic body's own colour, spread over hues by its id.
 function dynamicColor(id) {
