@@ -341,7 +341,7 @@ void Session::write_more() {
 
 void Session::on_written(const boost::system::error_code& error) {
   writing_ = false;
-  if (!error) context_.counters.bytes_sent += in_flight_.bytes;
+  if (!error) context_.counters.bytes_sent += transport_->wire_size(in_flight_.bytes);
   if (closed_) return;
   if (error) {
     close("write failed: " + error.message());

@@ -23,6 +23,7 @@ class TcpTransport final : public Transport {
   void close() override;
   const std::string& peer() const override { return peer_; }
   const char* kind() const override { return "TCP"; }
+  std::size_t wire_size(std::size_t payload) const override { return payload; }
 
  private:
   boost::asio::ip::tcp::socket socket_;

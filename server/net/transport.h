@@ -38,6 +38,10 @@ class Transport {
   // message.
   virtual void async_write(const std::vector<boost::asio::const_buffer>& buffers, DoneHandler handler) = 0;
 
+  // The bytes an async_write of `payload` bytes puts on the connection:
+  // the payload, and for a WebSocket its frame's header.
+  virtual std::size_t wire_size(std::size_t payload) const = 0;
+
   // Ends the outgoing direction after what was written: a TCP FIN, or a
   // WebSocket close frame that carries `reason`. Reading goes on until the
   // peer closes its side too. Nothing may be written after it.

@@ -47,6 +47,11 @@ class WebSocketTransport final : public Transport {
   void close() override;
   const std::string& peer() const override { return peer_; }
   const char* kind() const override { return "WebSocket"; }
+  // One unfragmented, unmasked frame a write (RFC 6455 section 5.2): 2 bytes
+  // of header, 2 more for a payload of 126 to 65535 bytes, 8 more beyond.
+  std::size_t wire_size(std::size_t payload) const override {
+    return payload + 2 + (payload > 65535 ? 8 : payload >= 126 ? 2 : 0);
+  }
 
  private:
   Stream ws_;

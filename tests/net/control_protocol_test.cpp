@@ -11,6 +11,7 @@
 #include "replies.h"
 #include "requests.h"
 #include "test_server.h"
+#include "wire/frame.h"
 
 namespace tumble::test {
 namespace {
@@ -189,7 +190,9 @@ TEST_F(ControlProtocolTest, StatsCountTheClientsAndTheBytesSent) {
   EXPECT_DOUBLE_EQ(first.stats().tick_rate_hz(), 240);
   EXPECT_GT(first.stats().bytes_sent(), 0u) << "two Welcomes at least";
   const ServerMessage second = call(get_stats(2));
-  EXPECT_GT(second.stats().bytes_sent(), first.stats().bytes_sent()) << "the first Stats was written since";
+  // Nothing else was written since (no subscriptions): the first Stats,
+  // its frame exactly.
+  EXPECT_EQ(second.stats().bytes_sent() - first.stats().bytes_sent(), wire::encode_frame(first).size());
 }
 
 TEST_F(ControlProtocolTest, PoseOnlyFramesCarryNoVelocities) {

@@ -13,6 +13,7 @@
 #include "replies.h"
 #include "requests.h"
 #include "test_server.h"
+#include "wire/frame.h"
 #include "ws_client.h"
 
 namespace tumble::test {
@@ -76,6 +77,24 @@ TEST_F(WebSocketTest, ListBodiesGetsTheBodyList) {
   ASSERT_EQ(list->body_list().bodies_size(), 2);
   EXPECT_EQ(list->body_list().bodies(0).name(), "crate");
   EXPECT_EQ(list->body_list().bodies(1).name(), "ball");
+}
+
+// GetStats counts what went on the connection: a WebSocket message's frame
+// header beside the protocol frame it carries.
+TEST_F(WebSocketTest, BytesSentCountTheWebSocketFraming) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send(get_stats(1)));
+  const auto first = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 1); });
+  ASSERT_TRUE(first && first->has_stats());
+  ASSERT_TRUE(client.send(get_stats(2)));
+  const auto second = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(second && second->has_stats());
+  // Only the first Stats was written in between: its frame, under 126
+  // bytes, in a binary message with the 2-byte header (RFC 6455 5.2).
+  const std::size_t frame = wire::encode_frame(*first).size();
+  ASSERT_LT(frame, 126u);
+  EXPECT_EQ(second->stats().bytes_sent() - first->stats().bytes_sent(), frame + 2);
 }
 
 // A WebSocket subscriber and a TCP one on the same stream get the same
