@@ -43,21 +43,25 @@
 //
 // Islands: the constraints are grouped by the dynamic bodies they connect
 // (static and kinematic bodies, which no constraint moves, do not join
-// islands), and each island is solved on its own, start to end, as one task
-// of a WorkerTeam. No two islands write the same body or contact, so the
-// islands may run on several threads at once; each island's arithmetic is the
-// same whichever thread runs it and however many there are, so results do not
-// depend on the thread count. The rows are built before, in blocks of
-// constraints taken in the contacts' order.
+// islands). Consecutive islands are gathered into groups of at least
+// kGroupPoints points, and each group is solved on its own, start to end, as
+// one task of a WorkerTeam. No two groups write the same body or contact, so
+// they may run on several threads at once; the groups do not depend on the
+// thread count, and each group's arithmetic is the same whichever thread runs
+// it, so results do not depend on the thread count.
 //
-// Fixed bodies: a contact against a body of inverse mass 0 at rest (the
-// ground, a static box, a kinematic body standing still) has every term of
-// that body zero, so its rows are built and solved for the other body alone
-// (as Jolt dispatches its contact solve on the two bodies' motion types);
-// the arithmetic of the terms kept is the same, and so are the results.
+// Wide rows (Box2D v3's graph colouring, Catto, "Solver2D", 2024): within a
+// group the constraints are coloured so that no two of one colour move the
+// same body, and each colour is packed four constraints at a time into a
+// wide constraint, solved in the four lanes of Float4 (float4.h) at once.
+// Static bodies and kinematic bodies that stand still take no slot: their
+// terms read a slot of zeros. A constraint for which no colour is free is
+// solved in a wide constraint of its own (one lane used). The rows are built
+// in double precision and stored and solved in single precision; the solve
+// hands back each body's change of velocity, added to its double velocity.
 //
 // Thread: prepare() and solve() from the World's thread; solve() runs
-// islands on the team's threads and returns when all are done. Arrays are
+// groups on the team's threads and returns when all are done. Arrays are
 // reused; no allocation once warmed up.
 #pragma once
 
@@ -66,6 +70,7 @@
 #include <vector>
 
 #include "physics/contact.h"
+#include "physics/float4.h"
 #include "physics/math.h"
 #include "physics/transform.h"
 #include "physics/worker_team.h"
@@ -128,42 +133,82 @@ class ContactSolver {
   std::size_t island_count() const { return islands_.size(); }
 
  private:
-  // One row: a direction d at one point, with its angular Jacobians and
-  // their products with the inverse inertias, indexed by side (0 for body
-  // a, 1 for body b); a fixed side's entries are not written.
-  struct Row {
-    Vec3 jacobian[2];    // r_a x d, r_b x d
-    Vec3 response[2];    // I_a^-1 (r_a x d), I_b^-1 (r_b x d)
-    double mass = 0;     // effective mass
-    double impulse = 0;  // accumulated
-  };
-  struct Point {
-    Row normal;
-    Row tangent1;
-    Row tangent2;
-    double separation = 0;         // s_0, at the start of the step (m)
-    double relative_velocity = 0;  // normal velocity before the solve (m/s)
-    double max_normal_impulse = 0;
-  };
+  // A constraint as prepare() lists it: one contact with points.
   struct Constraint {
     std::uint32_t body_a = 0;
     std::uint32_t body_b = 0;
     std::uint32_t contact = 0;
-    std::uint32_t first_point = 0;
     std::uint32_t point_count = 0;
-    double inverse_mass_a = 0;
-    double inverse_mass_b = 0;
-    double friction = 0;
-    double restitution = 0;
-    bool against_infinite_mass = false;  // one body static or kinematic: stiffer push
-    // A body of inverse mass 0 at rest (static, or kinematic standing
-    // still) is fixed: every term of its velocity, motion and inertia is
-    // zero, and the rows keep only the other side's (one_sided_pass()).
-    // kBothSides when neither is fixed.
-    std::uint8_t moving_side = kBothSides;
-    Vec3 normal;
-    Vec3 tangent1;
-    Vec3 tangent2;
+  };
+
+  // Constraints [first_constraint, + constraint_count) and dynamic bodies
+  // touched_[first_body, + body_count) that no other island shares.
+  struct Island {
+    std::uint32_t first_constraint = 0;
+    std::uint32_t constraint_count = 0;
+    std::uint32_t first_body = 0;
+    std::uint32_t body_count = 0;
+    std::uint32_t point_count = 0;
+  };
+
+  // Consecutive islands solved as one task: their constraints and bodies
+  // (contiguous, as the islands'), the body slots [first_slot, + slot_count)
+  // of solver_bodies_ (slot first_slot is the group's slot of zeros) and the
+  // wide constraints [first_wide, + wide_count).
+  struct Group {
+    std::uint32_t first_constraint = 0;
+    std::uint32_t constraint_count = 0;
+    std::uint32_t first_body = 0;
+    std::uint32_t body_count = 0;
+    std::uint32_t point_count = 0;
+    std::uint32_t first_slot = 0;
+    std::uint32_t slot_count = 0;
+    std::uint32_t first_wide = 0;
+    std::uint32_t wide_count = 0;
+  };
+
+  // A body during the solve, single precision, world frame: its velocity
+  // (m/s, rad/s) and its motion within the step so far, the displacement dp
+  // (m) and rotation dtheta = sum of w h (rad). The fourth float of each is
+  // padding.
+  struct alignas(16) SolverBody {
+    float linear[4] = {};
+    float angular[4] = {};
+    float displacement[4] = {};
+    float rotation[4] = {};
+  };
+
+  // One row of four lanes: a direction d at one point of each lane's
+  // constraint, with its angular Jacobians r_a x d, r_b x d, their products
+  // with the inverse inertias, the effective mass and the accumulated
+  // impulse. A lane whose constraint has fewer points, or no constraint,
+  // holds zeros and takes no impulse.
+  struct WideRow {
+    Vec3x4 jacobian_a, jacobian_b;
+    Vec3x4 response_a, response_b;
+    Float4 mass, impulse;
+  };
+  struct WidePoint {
+    WideRow normal, tangent1, tangent2;
+    Float4 separation;         // s_0, at the start of the step (m)
+    Float4 relative_velocity;  // normal velocity before the solve (m/s)
+    Float4 max_normal_impulse;
+  };
+  // Four constraints of one colour (no two move the same body), lane by
+  // lane: their body slots, relative to the group's first slot, and
+  // constraint index (kNoConstraint in an unused lane), then the rows'
+  // common terms. A soft row's spring (contact_solver.h, step 3) differs
+  // between lanes against a body of infinite mass and the others.
+  struct WideConstraint {
+    std::uint32_t slot_a[4] = {};
+    std::uint32_t slot_b[4] = {};
+    std::uint32_t constraint[4] = {};
+    std::uint32_t first_point = 0;  // in wide_points_
+    std::uint32_t point_count = 0;  // the most of the four lanes
+    Vec3x4 normal, tangent1, tangent2;
+    Float4 inverse_mass_a, inverse_mass_b;
+    Float4 friction, restitution;
+    Float4 bias_rate, mass_scale, impulse_scale;
   };
   // Position of a body within the step, relative to its start.
   struct Motion {
@@ -176,69 +221,43 @@ class ContactSolver {
     double mass_scale = 1;
     double impulse_scale = 0;
   };
-
-  // What a normal row asks this pass at separation s: the velocity bias
-  // (m/s) and the mass and impulse scales (1 and 0 for a rigid row).
-  struct NormalTarget {
-    double bias = 0;
-    double mass_scale = 1;
-    double impulse_scale = 0;
+  // The velocities of one side of four lanes, and their motion.
+  struct WideVelocity {
+    Vec3x4 linear, angular;
+  };
+  struct WideMotion {
+    Vec3x4 displacement, rotation;
   };
 
-  // Constraints [first_constraint, + constraint_count) and dynamic bodies
-  // touched_[first_body, + body_count) that no other island shares.
-  struct Island {
-    std::uint32_t first_constraint = 0;
-    std::uint32_t constraint_count = 0;
-    std::uint32_t first_body = 0;
-    std::uint32_t body_count = 0;
-    std::uint32_t point_count = 0;
-  };
-  // The constraints of one island, and a body's motion within the substeps
-  // so far: a dynamic body's is tracked in motion_; a static or kinematic
-  // body, whose velocity no constraint changes, has moved elapsed v.
-  struct IslandView {
-    std::span<Constraint> constraints;
-    std::span<const std::uint32_t> bodies;
-    double elapsed = 0;  // s of substeps integrated
-  };
-
-  static constexpr std::uint8_t kBothSides = 2;
-
-  // The moving body of a constraint with a fixed one: its side (0 for a,
-  // 1 for b) and dense index, and the sign of its share of an impulse
-  // (body b takes the impulse, a its opposite).
-  struct MovingBody {
-    int side = 0;
-    std::uint32_t body = 0;
-    double inverse_mass = 0;
-    double sign = 0;
-  };
-  static MovingBody moving_body(const Constraint& c);
+  static constexpr std::uint32_t kNoConstraint = 0xffffffff;
+  static constexpr std::uint32_t kNoBody = 0xffffffff;
 
   std::uint32_t island_root(std::uint32_t body);
   void touch(std::uint32_t body);
-  void solve_island(const Island& island, std::span<SolverVelocity> velocities);
-  void build_rows(Constraint& c, std::span<const SolverVelocity> velocities);
-  Motion motion_of(std::uint32_t body, double inverse_mass, const SolverVelocity& velocity, double elapsed) const;
-  void warm_start(const IslandView& island, std::span<SolverVelocity> velocities) const;
-  void solve_pass(const IslandView& island, std::span<SolverVelocity> velocities, bool soft);
-  void one_sided_pass(const Constraint& c, const IslandView& island, std::span<SolverVelocity> velocities, bool soft);
-  NormalTarget normal_target(const Constraint& c, double separation, bool soft) const;
-  static double accumulate_normal(Point& p, double vn, const NormalTarget& target);
-  static void accumulate_friction(Point& p, double friction, double vt1, double vt2, double* d1, double* d2);
-  void integrate_motion(const IslandView& island, std::span<const SolverVelocity> velocities);
-  void apply_restitution(const IslandView& island, std::span<SolverVelocity> velocities);
-  void store_impulses(const IslandView& island) const;
+  void plan_group(Group& group, std::span<const SolverVelocity> velocities);
+  void solve_group(const Group& group, std::span<SolverVelocity> velocities);
+  void build_lane(WideConstraint& w, int lane, std::span<const SolverVelocity> velocities);
+  static WideVelocity gather_velocity(const SolverBody* slots, const std::uint32_t (&index)[4]);
+  static WideMotion gather_motion(const SolverBody* slots, const std::uint32_t (&index)[4]);
+  static void scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[4], const Float4& inverse_mass,
+                               const WideVelocity& v);
+  void warm_start(const Group& group);
+  void solve_pass(const Group& group, bool soft);
+  void apply_restitution(const Group& group);
+  void store_impulses(const Group& group) const;
 
-  // This step's constraints, island by island, and their points: the first
-  // constraint_count_ and point_count_ entries (the vectors only grow).
+  // This step's constraints, island by island: the first constraint_count_
+  // entries (the vector only grows).
   std::vector<Constraint> constraints_;
-  std::vector<Point> points_;
   std::size_t constraint_count_ = 0;
   std::size_t point_count_ = 0;
   std::vector<Island> islands_;
-  std::vector<std::uint32_t> island_order_;  // islands by falling point count: the order a team's tasks start
+  std::vector<Group> groups_;
+  std::vector<std::uint32_t> group_order_;  // groups by falling point count: the order a team's tasks start
+  std::vector<SolverBody> solver_bodies_;
+  std::vector<SolverBody> solver_external_;  // each slot's change of v and w over the step (linear, angular)
+  std::vector<WideConstraint> wide_;
+  std::vector<WidePoint> wide_points_;
   std::vector<Motion> motion_;
   std::vector<std::uint8_t> is_touched_;
   std::vector<std::uint32_t> touched_;
@@ -248,7 +267,22 @@ class ContactSolver {
   std::vector<std::uint32_t> parent_;
   std::vector<std::uint32_t> island_of_root_;
   std::vector<std::uint32_t> island_of_pending_;
-  std::vector<std::uint32_t> slot_of_pending_;  // where each pending contact's constraint went
+  // The body of each slot of solver_bodies_ (kNoBody for a group's slot of
+  // zeros): the group's dynamic bodies, then the kinematic bodies in motion
+  // it reads.
+  std::vector<std::uint32_t> slot_body_;
+  std::size_t slot_count_ = 0;
+  std::size_t wide_count_ = 0;
+  std::size_t wide_point_count_ = 0;
+  // Scratch of plan_group(): a body's slot in its group (a kinematic
+  // body's only where slot_stamp_ holds the group's plan_stamp_), and the
+  // colours.
+  std::vector<std::uint32_t> slot_of_body_;
+  std::vector<std::uint64_t> slot_stamp_;
+  std::uint64_t plan_stamp_ = 0;
+  std::vector<std::uint64_t> colour_bits_;
+  std::vector<std::uint32_t> colour_members_;
+  std::vector<std::uint32_t> colour_of_;
   std::span<Contact> contacts_;
   ContactSolverBodies bodies_;
   ContactSolverSettings settings_;
