@@ -437,22 +437,17 @@ Vec3x4 transpose_rows(const float* r0, const float* r1, const float* r2, const f
 
 }  // namespace
 
+Vec3x4 ContactSolver::gather(const SolverBody* slots, const std::uint32_t (&index)[4], Field field) {
+  return transpose_rows(slots[index[0]].*field, slots[index[1]].*field, slots[index[2]].*field,
+                        slots[index[3]].*field);
+}
+
 ContactSolver::WideVelocity ContactSolver::gather_velocity(const SolverBody* slots, const std::uint32_t (&index)[4]) {
-  const SolverBody& b0 = slots[index[0]];
-  const SolverBody& b1 = slots[index[1]];
-  const SolverBody& b2 = slots[index[2]];
-  const SolverBody& b3 = slots[index[3]];
-  return WideVelocity{transpose_rows(b0.linear, b1.linear, b2.linear, b3.linear),
-                      transpose_rows(b0.angular, b1.angular, b2.angular, b3.angular)};
+  return WideVelocity{gather(slots, index, &SolverBody::linear), gather(slots, index, &SolverBody::angular)};
 }
 
 ContactSolver::WideMotion ContactSolver::gather_motion(const SolverBody* slots, const std::uint32_t (&index)[4]) {
-  const SolverBody& b0 = slots[index[0]];
-  const SolverBody& b1 = slots[index[1]];
-  const SolverBody& b2 = slots[index[2]];
-  const SolverBody& b3 = slots[index[3]];
-  return WideMotion{transpose_rows(b0.displacement, b1.displacement, b2.displacement, b3.displacement),
-                    transpose_rows(b0.rotation, b1.rotation, b2.rotation, b3.rotation)};
+  return WideMotion{gather(slots, index, &SolverBody::displacement), gather(slots, index, &SolverBody::rotation)};
 }
 
 void ContactSolver::scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[4], const Float4& inverse_mass,

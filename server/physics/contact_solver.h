@@ -237,6 +237,9 @@ class ContactSolver {
   void plan_group(Group& group, std::span<const SolverVelocity> velocities);
   void solve_group(const Group& group, std::span<SolverVelocity> velocities);
   void build_lane(WideConstraint& w, int lane, std::span<const SolverVelocity> velocities);
+  // One vector of a SolverBody (linear, angular, displacement or rotation).
+  using Field = float (SolverBody::*)[4];
+  static Vec3x4 gather(const SolverBody* slots, const std::uint32_t (&index)[4], Field field);
   static WideVelocity gather_velocity(const SolverBody* slots, const std::uint32_t (&index)[4]);
   static WideMotion gather_motion(const SolverBody* slots, const std::uint32_t (&index)[4]);
   static void scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[4], const Float4& inverse_mass,
