@@ -34,7 +34,7 @@
 // (no unordered containers, no pointer-keyed ordering), whatever the thread
 // count.
 //
-// Threads: step() may solve the contact islands on helper threads
+// Threads: step() may solve the contact groups on helper threads
 // (set_thread_count, worker_team.h); it returns when they are done. Not
 // thread-safe otherwise: one thread owns a World. Accessors that take a BodyId
 // require a valid one (contains(id)); that is asserted, not reported.
@@ -127,8 +127,8 @@ class World {
   void set_settings(const WorldSettings& settings);
   const WorldSettings& settings() const { return settings_; }
 
-  // Threads step() solves contact islands on, the caller included (1, the
-  // default: the caller alone). Each island is solved the same way on any
+  // Threads step() solves contact groups on, the caller included (1, the
+  // default: the caller alone). Each group is solved the same way on any
   // thread, so the results are bit-identical for every count. Starts or
   // stops helper threads, which sleep between steps.
   void set_thread_count(int threads);
