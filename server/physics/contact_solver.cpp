@@ -704,24 +704,6 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     w.normal = w.tangent1 = w.tangent2 = Vec3x4{};
     w.inverse_mass_a = w.inverse_mass_b = w.friction = w.restitution = Float4{};
     w.bias_rate = w.mass_scale = w.impulse_scale = Float4{};
-  }
-  // Colour by colour (the rows of a wide constraint are written together);
-  // the contacts of a colour lie scattered, so those of the wide constraint
-  // two ahead are fetched while this one is built.
-  auto prefetch = [&](const WideConstraint& w) {
-    for (std::uint32_t index : w.constraint) {
-      if (index == kNoConstraint) continue;
-      const Contact& contact = contacts_[constraints_[index].contact];
-      const char* manifold = reinterpret_cast<const char*>(&contact.manifold);
-      for (std::size_t offset = 0; offset < sizeof(Manifold); offset += 64) __builtin_prefetch(manifold + offset);
-      __builtin_prefetch(&contact.normal_impulse[0]);
-      __builtin_prefetch(&contact.tangent_impulse[0]);
-      __builtin_prefetch(&contact.tangent_impulse[kMaxManifoldPoints - 1]);
-    }
-  };
-  for (std::uint32_t i = 0; i < group.wide_count; ++i) {
-    if (i + 2 < group.wide_count) prefetch(wide_[group.first_wide + i + 2]);
-    WideConstraint& w = wide_[group.first_wide + i];
     for (int lane = 0; lane < kLanes; ++lane) {
       if (w.constraint[lane] != kNoConstraint) build_lane(w, lane, velocities);
     }
