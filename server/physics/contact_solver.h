@@ -116,8 +116,10 @@ class ContactSolver {
   // written) ahead of need, so a step whose contacts multiply does not copy
   // the rows it has built so far.
   void reserve(std::size_t constraints);
-  // Builds the rows, then solves each island, on team's threads (on the
-  // caller's alone when team is null): runs the substeps, relax passes and
+  // Gathers the islands into groups, colours each group's constraints and
+  // packs them into wide constraints (on the caller's thread), then builds
+  // and solves each group on team's threads (on the caller's alone when
+  // team is null): runs the substeps, relax passes and
   // restitution on velocities, and stores the impulses in the contacts for
   // the next step's warm start. velocities holds every body's velocity at
   // the end of the step before contacts (the external change already added).
