@@ -136,8 +136,9 @@ int main(int argc, char** argv) {
                                        "recorded scene when given), then serve the world paused where it ended");
   int physics_threads = 1;
   app.add_option("--physics-threads", physics_threads,
-                 "Threads that solve the world's contact islands, the sim thread included; results are the same "
-                 "for any count. More help a world of many separate piles on a machine with cores to spare")
+                 "Threads that run the narrowphase and solve the world's contact groups, the sim thread included; "
+                 "results are the same for any count. More help a world of many separate piles on a machine "
+                 "with cores to spare")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   // Scheduling: on a shared machine, keeps ticks and frames on time.

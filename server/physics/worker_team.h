@@ -9,7 +9,8 @@
 // nothing, so a team of one thread and a team whose helpers never get a
 // core take the same time. Which thread runs which task is left to chance;
 // callers make tasks that write disjoint data, so results do not depend on
-// it (the contact solver's groups of islands, contact_solver.h).
+// it (the narrowphase's runs of pairs, world_contacts.cpp; the contact
+// solver's groups of islands, contact_solver.h).
 //
 // Helpers spin briefly after a phase, since the next phase of a step
 // usually follows within microseconds, then sleep on a condition variable

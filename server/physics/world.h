@@ -17,8 +17,9 @@
 //      grown by the distance it can travel this step, is checked against its
 //      fat box in a DynamicTree; boxes that escaped are replaced and queried
 //      for new pairs; planes are tested against every awake body's box;
-//   3. narrowphase (collide.h) updates each pair with an awake body;
-//      touching a sleeping body wakes its island;
+//   3. narrowphase (collide.h) updates each pair with an awake body, in
+//      parallel; then, in slot order, pairs that no longer overlap are
+//      destroyed and touching a sleeping body wakes its island;
 //   4. sequential impulses in substeps (contact_solver.h) change v and w;
 //      then P = M v and L = I w;
 //   5. positions and orientations advance from P and L (integrator.h), plus
@@ -34,8 +35,9 @@
 // (no unordered containers, no pointer-keyed ordering), whatever the thread
 // count.
 //
-// Threads: step() may solve the contact groups on helper threads
-// (set_thread_count, worker_team.h); it returns when they are done. Not
+// Threads: step() may run the narrowphase's pairs and solve the contact
+// groups on helper threads (set_thread_count, worker_team.h); it returns
+// when they are done. Not
 // thread-safe otherwise: one thread owns a World. Accessors that take a BodyId
 // require a valid one (contains(id)); that is asserted, not reported.
 // step() does not allocate once the arrays have grown to the scene.
@@ -277,10 +279,16 @@ class World {
   void relabel_body(std::uint32_t from, std::uint32_t to);
   void update_broadphase(double dt);
   void update_contacts();
-  // Updates one contact: keeps or destroys it, refreshes its manifold, and
-  // lists it in active_ when it touches.
-  void update_contact(std::uint32_t slot);
-  void update_manifold(Contact& contact, std::uint32_t index);
+  // The narrowphase of one pair: refreshes its manifold and its link's
+  // flags, and says what the world must do about it (ContactUpdate bits,
+  // world_contacts.cpp). Writes only links_[slot] and contacts_[slot], so
+  // pairs may be updated on several threads at once.
+  std::uint8_t update_contact(std::uint32_t slot);
+  // What update_contact() left to do, on the owning thread: destroys the
+  // pair or, when it touches, wakes its bodies and lists it in active_.
+  void finish_contact_update(std::uint32_t slot, std::uint8_t update);
+  // Returns true when the manifold was computed afresh, false when reused.
+  bool update_manifold(Contact& contact, std::uint32_t index);
   void wake_overlapping(const Aabb& box);
 
   // Step phases (world_step.cpp).
@@ -335,6 +343,10 @@ class World {
   std::vector<ContactLink> links_;
   std::vector<std::uint32_t> free_contacts_;
   std::vector<std::uint32_t> active_;
+  // Scratch of update_contacts(): the slots updated in parallel and what
+  // each asks for (ContactUpdate bits), index for index.
+  std::vector<std::uint32_t> updating_;
+  std::vector<std::uint8_t> updates_;
   std::uint64_t contact_pass_ = 0;  // counts update_contacts() calls; see ContactLink::updated_pass
 
   ContactSolver solver_;

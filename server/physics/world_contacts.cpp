@@ -24,6 +24,17 @@ constexpr double kReuseDistance = 1e-3;
 // between two orientations.
 constexpr double kReuseCosHalfAngle = 0.99996192306417131;
 
+// Pairs a narrowphase task updates: enough to outweigh claiming a task
+// (tens of nanoseconds) many times over, few enough that a thousand
+// touching pairs make tasks for every thread.
+constexpr std::size_t kPairsPerTask = 64;
+
+// What update_contact() asks of finish_contact_update(), as bits.
+constexpr std::uint8_t kContactDestroy = 1;   // the fat boxes no longer overlap
+constexpr std::uint8_t kContactCollided = 2;  // the manifold was updated (computed or reused)
+constexpr std::uint8_t kContactComputed = 4;  // ... computed afresh from the shapes
+constexpr std::uint8_t kContactTouching = 8;  // the manifold has points
+
 bool is_polyhedron(ShapeType type) { return type == ShapeType::box || type == ShapeType::convex_hull; }
 
 // Height of the lowest corner of box above the plane n.p = offset.
@@ -184,30 +195,48 @@ void World::update_broadphase(double dt) {
 void World::update_contacts() {
   active_.clear();
   woken_.clear();
-  collecting_woken_ = true;
   ++contact_pass_;
-  // One pass over the compact links in slot order; a pair whose bodies both
-  // sleep costs a look at two flags and nothing more (its Contact is not
-  // read).
+  // The pairs to look at: one pass over the compact links in slot order; a
+  // pair whose bodies both sleep costs a look at two flags and nothing more
+  // (its Contact is not read).
+  updating_.clear();
   for (std::uint32_t slot = 0; slot < links_.size(); ++slot) {
     const ContactLink& link = links_[slot];
     if (!link.alive) continue;
     if (!awake_[link.body_a] && !awake_[link.body_b]) continue;
-    update_contact(slot);
+    updating_.push_back(slot);
   }
-  // Bodies woken by a touch above have contacts in slots already passed:
-  // those join this step too. The list grows while it is walked.
+  updates_.resize(updating_.size());
+  // Their narrowphase, in tasks of consecutive pairs on the team's threads;
+  // each writes only its own pairs, so the outcome does not depend on the
+  // thread count.
+  const std::size_t tasks = (updating_.size() + kPairsPerTask - 1) / kPairsPerTask;
+  auto update_pairs = [this](std::size_t task) {
+    const std::size_t end = std::min(updating_.size(), (task + 1) * kPairsPerTask);
+    for (std::size_t k = task * kPairsPerTask; k < end; ++k) updates_[k] = update_contact(updating_[k]);
+  };
+  if (team_ && team_->thread_count() > 1 && tasks > 1) {
+    team_->for_each(tasks, update_pairs);
+  } else {
+    for (std::size_t task = 0; task < tasks; ++task) update_pairs(task);
+  }
+  // Then, in slot order, what the pairs ask of the world.
+  collecting_woken_ = true;
+  for (std::size_t k = 0; k < updating_.size(); ++k) finish_contact_update(updating_[k], updates_[k]);
+  // Bodies woken by a touch above have contacts that were not looked at
+  // (both bodies slept): those join this step too. The list grows while it
+  // is walked.
   for (std::size_t k = 0; k < woken_.size(); ++k) {
     for (ContactKey key = records_[woken_[k]].contact_head; key != kNullContactKey;) {
       const std::uint32_t slot = key >> 1;
       key = links_[slot].next[key & 1];  // read before the contact can be destroyed
-      if (links_[slot].updated_pass != contact_pass_) update_contact(slot);
+      if (links_[slot].updated_pass != contact_pass_) finish_contact_update(slot, update_contact(slot));
     }
   }
   collecting_woken_ = false;
 }
 
-void World::update_contact(std::uint32_t slot) {
+std::uint8_t World::update_contact(std::uint32_t slot) {
   const double half_margin = 0.5 * settings_.contact_margin;
   ContactLink& link = links_[slot];
   const std::uint32_t a = link.body_a, b = link.body_b;
@@ -217,7 +246,7 @@ void World::update_contact(std::uint32_t slot) {
   // spinning among sleeping ones costs this much a neighbour.
   const bool unchanged = box_passes_[a] <= link.updated_pass && box_passes_[b] <= link.updated_pass;
   link.updated_pass = contact_pass_;
-  if (link.apart && unchanged) return;
+  if (link.apart && unchanged) return 0;
 
   // Persistence: the pair lives while the fat boxes overlap.
   bool overlap;
@@ -241,8 +270,8 @@ void World::update_contact(std::uint32_t slot) {
   }
   link.apart = !can_touch;
   if (!overlap) {
-    destroy_contact(slot);
-    return;
+    link.touching = false;  // no flood of wake_island() crosses a pair on its way out
+    return kContactDestroy;
   }
   if (!can_touch) {
     if (link.touching) {
@@ -251,21 +280,33 @@ void World::update_contact(std::uint32_t slot) {
       c.cached_max_separation = -1;  // the anchors describe points that are gone
       link.touching = false;
     }
-    return;
+    return 0;
   }
 
   Contact& c = contacts_[slot];
-  update_manifold(c, slot);
-  ++stats_.narrowphase_pairs;
+  std::uint8_t update = kContactCollided;
+  if (update_manifold(c, slot)) update |= kContactComputed;
   link.touching = c.manifold.point_count > 0;
-  if (!link.touching) return;
+  if (link.touching) update |= kContactTouching;
+  return update;
+}
+
+void World::finish_contact_update(std::uint32_t slot, std::uint8_t update) {
+  if (update & kContactDestroy) {
+    destroy_contact(slot);
+    return;
+  }
+  if (update & kContactCollided) ++stats_.narrowphase_pairs;
+  if (update & kContactComputed) ++stats_.manifolds_computed;
+  if (!(update & kContactTouching)) return;
   // Touching a sleeping body wakes its island.
-  if (!awake_[a]) wake_island(a);
-  if (!awake_[b]) wake_island(b);
+  const ContactLink& link = links_[slot];
+  if (!awake_[link.body_a]) wake_island(link.body_a);
+  if (!awake_[link.body_b]) wake_island(link.body_b);
   active_.push_back(slot);
 }
 
-void World::update_manifold(Contact& c, std::uint32_t index) {
+bool World::update_manifold(Contact& c, std::uint32_t index) {
   const std::uint32_t a = links_[index].body_a, b = links_[index].body_b;
   const Transform& ta = transforms_[a];
   const Transform& tb = transforms_[b];
@@ -292,13 +333,12 @@ void World::update_manifold(Contact& c, std::uint32_t index) {
         p.point_b = tb.apply(c.local_b[k]);
         p.separation = (p.point_b - p.point_a).dot(m.normal);
       }
-      return;
+      return false;
     }
   }
 
   Manifold fresh;
   collide(shapes_[a], ta, shapes_[b], tb, max_separation, fresh);
-  ++stats_.manifolds_computed;
 
   // Warm starting: a point keeps the impulses of the old point with its id.
   double normal_impulse[kMaxManifoldPoints];
@@ -327,6 +367,7 @@ void World::update_manifold(Contact& c, std::uint32_t index) {
     c.cached_rotation = relative_rotation;
     c.cached_max_separation = max_separation;
   }
+  return true;
 }
 
 }  // namespace tumble::physics
