@@ -279,6 +279,12 @@ class World {
   void relabel_body(std::uint32_t from, std::uint32_t to);
   void update_broadphase(double dt);
   void update_contacts();
+  // True when the pair was apart when last updated and neither step box has
+  // changed since: neither the fat boxes (they move only when a step box
+  // leaves them) nor the answer can have changed.
+  bool still_apart(const ContactLink& link) const {
+    return link.apart && box_passes_[link.body_a] <= link.updated_pass && box_passes_[link.body_b] <= link.updated_pass;
+  }
   // The narrowphase of one pair: refreshes its manifold and its link's
   // flags, and says what the world must do about it (ContactUpdate bits,
   // world_contacts.cpp). Writes only links_[slot] and contacts_[slot], so

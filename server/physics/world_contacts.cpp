@@ -198,12 +198,19 @@ void World::update_contacts() {
   ++contact_pass_;
   // The pairs to look at: one pass over the compact links in slot order; a
   // pair whose bodies both sleep costs a look at two flags and nothing more
-  // (its Contact is not read).
+  // (its Contact is not read). A pair still apart whose step boxes have not
+  // changed is settled here as update_contact() would settle it, so the
+  // tasks below get only pairs with work (a kinematic body spinning among
+  // sleeping ones leaves thousands of such pairs a step).
   updating_.clear();
   for (std::uint32_t slot = 0; slot < links_.size(); ++slot) {
-    const ContactLink& link = links_[slot];
+    ContactLink& link = links_[slot];
     if (!link.alive) continue;
     if (!awake_[link.body_a] && !awake_[link.body_b]) continue;
+    if (still_apart(link)) {
+      link.updated_pass = contact_pass_;
+      continue;
+    }
     updating_.push_back(slot);
   }
   updates_.resize(updating_.size());
@@ -240,13 +247,10 @@ std::uint8_t World::update_contact(std::uint32_t slot) {
   const double half_margin = 0.5 * settings_.contact_margin;
   ContactLink& link = links_[slot];
   const std::uint32_t a = link.body_a, b = link.body_b;
-  // Still apart: neither step box has changed since this pair last found
-  // them apart, so neither the fat boxes (they move only when a step box
-  // leaves them) nor the answer can have changed. A kinematic sphere
-  // spinning among sleeping ones costs this much a neighbour.
-  const bool unchanged = box_passes_[a] <= link.updated_pass && box_passes_[b] <= link.updated_pass;
+  // A pair reached through a body woken this step may still be apart.
+  const bool apart = still_apart(link);
   link.updated_pass = contact_pass_;
-  if (link.apart && unchanged) return 0;
+  if (apart) return 0;
 
   // Persistence: the pair lives while the fat boxes overlap.
   bool overlap;
