@@ -37,6 +37,7 @@
 #include "load_connection.h"
 #include "load_world.h"
 #include "process_cpu.h"
+#include "stall_watch.h"
 #include "tumble_client/pose_stream.h"
 
 namespace {
@@ -62,6 +63,7 @@ struct Options {
   unsigned subscriber_threads = 25;
   bool subscriber_idle = false;
   std::string latency_log;  // a CSV of every latency sample; none when empty
+  bool stall_watch = false;  // watch for stalls of the machine (stall_watch.h)
 };
 
 // Gives the calling thread this nice value (Linux: per thread), and with
@@ -287,8 +289,19 @@ int main(int argc, char** argv) {
                "want none, the nearest one machine comes to clients on others");
   app.add_option("--latency-log", options.latency_log,
                  "Write every latency sample to this file, a CSV line each: sent_s (seconds into the window), "
-                 "latency_ms, applied_tick (the server's tick that applied the change)");
+                 "latency_ms, applied_tick (the server's tick that applied the change), in_stall (with "
+                 "--stall-watch: 1 when the sample spans a stall of the machine)");
+  app.add_flag("--stall-watch", options.stall_watch,
+               "Watch every CPU for stalls of the machine itself (a SCHED_FIFO thread a CPU waking every 1 ms; "
+               "needs root or RLIMIT_RTPRIO 90) and report them and the latency samples they touch");
   CLI11_PARSE(app, argc, argv);
+
+  if (options.stall_watch) {
+    if (const std::string refusal = tumble::bench::stall_watch_refusal(); !refusal.empty()) {
+      std::fprintf(stderr, "net_load: --stall-watch: %s\n", refusal.c_str());
+      return 2;
+    }
+  }
 
   // Opened first, so that a path it cannot write fails before any load.
   std::FILE* latency_log = nullptr;
@@ -345,6 +358,18 @@ int main(int argc, char** argv) {
     latency = tumble::bench::measure_latency(options.target, world.probe, before.tick_rate_hz(),
                                              encoding_of(options.encoding, 0), start, end);
   });
+  std::vector<tumble::bench::Stall> stalls;
+  std::string stall_error;
+  if (options.stall_watch) {
+    // Until the latency probe's last change has had time to show.
+    threads.emplace_back([&] {
+      try {
+        stalls = tumble::bench::watch_stalls(start, end + std::chrono::seconds(1));
+      } catch (const std::exception& e) {
+        stall_error = e.what();
+      }
+    });
+  }
   tumble::bench::CommandTally commands;
   if (options.commands_per_second > 0) {
     threads.emplace_back([&] {
@@ -380,14 +405,27 @@ int main(int argc, char** argv) {
   // The server rounds the rate to a whole number of ticks.
   const double period_ticks = std::max(1.0, std::round(after.tick_rate_hz() / options.rate_hz));
   const double expected_each = options.seconds * after.tick_rate_hz() / period_ticks;
-  const std::uint64_t errors = total.errors + latency.errors + commands.errors;
+  const std::uint64_t errors = total.errors + latency.errors + commands.errors + (stall_error.empty() ? 0 : 1);
+  if (!stall_error.empty()) std::fprintf(stderr, "net_load: %s\n", stall_error.c_str());
+  // Each sample's span, from its send to the frame that showed it.
+  std::vector<bool> in_stall(latency.samples.size(), false);
+  const double goal_ms = 1000 / after.tick_rate_hz() + 2;
+  std::size_t slow = 0, slow_in_stall = 0;
+  for (std::size_t i = 0; i < latency.samples.size(); ++i) {
+    const tumble::bench::LatencySample& sample = latency.samples[i];
+    in_stall[i] = tumble::bench::overlaps_stall(stalls, sample.sent_s, sample.sent_s + sample.latency_ms / 1000);
+    if (sample.latency_ms > goal_ms) {
+      ++slow;
+      if (in_stall[i]) ++slow_in_stall;
+    }
+  }
   std::printf(
       "world=%s encoding=%s subscribers=%u bodies=%u rate_hz=%g tick_rate_hz=%g seconds=%g "
       "bytes_per_body_frame=%.2f bytes_per_body_frame_max=%.2f kbit_per_s_per_subscriber=%.1f "
       "frames=%llu frames_expected=%.0f frames_min_percent=%.1f "
       "latency_samples=%zu latency_lost=%llu latency_ms_p50=%.2f latency_ms_p99=%.2f latency_goal_ms=%.2f "
       "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f tick_cpu_ms_p99=%.2f tick_late_ms_p50=%.2f tick_late_ms_p99=%.2f "
-      "server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu\n",
+      "server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu",
       options.world.c_str(), options.encoding.c_str(), options.subscribers, options.bodies, options.rate_hz,
       after.tick_rate_hz(), options.seconds,
       total.body_slots > 0 ? static_cast<double>(total.bytes) / static_cast<double>(total.body_slots) : 0.0,
@@ -395,16 +433,30 @@ int main(int argc, char** argv) {
       static_cast<unsigned long long>(total.frames), expected_each * options.subscribers,
       100 * min_frames / expected_each, latency.latencies_ms.size(), static_cast<unsigned long long>(latency.lost),
       tumble::bench::percentile(latency.latencies_ms, 0.5), tumble::bench::percentile(latency.latencies_ms, 0.99),
-      1000 / after.tick_rate_hz() + 2, static_cast<unsigned long long>(after.overruns() - before.overruns()),
+      goal_ms, static_cast<unsigned long long>(after.overruns() - before.overruns()),
       static_cast<unsigned long long>(after.tick() - before.tick()), after.tick_ms_p50(), after.tick_ms_p99(),
       after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(),
       server_cpu.c_str(), own_cpu.c_str(),
       static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
+  if (options.stall_watch) {
+    double longest_ms = 0, total_ms = 0;
+    for (const tumble::bench::Stall& stall : stalls) {
+      longest_ms = std::max(longest_ms, 1000 * (stall.end_s - stall.start_s));
+      total_ms += 1000 * (stall.end_s - stall.start_s);
+    }
+    std::printf(" stalls=%zu stall_ms_max=%.2f stall_ms_total=%.1f latency_over_goal=%zu latency_over_goal_in_stall=%zu",
+                stalls.size(), longest_ms, total_ms, slow, slow_in_stall);
+  }
+  std::printf("\n");
   if (latency_log != nullptr) {
-    std::fprintf(latency_log, "sent_s,latency_ms,applied_tick\n");
-    for (const tumble::bench::LatencySample& sample : latency.samples) {
-      std::fprintf(latency_log, "%.6f,%.3f,%llu\n", sample.sent_s, sample.latency_ms,
+    std::fprintf(latency_log, options.stall_watch ? "sent_s,latency_ms,applied_tick,in_stall\n"
+                                                  : "sent_s,latency_ms,applied_tick\n");
+    for (std::size_t i = 0; i < latency.samples.size(); ++i) {
+      const tumble::bench::LatencySample& sample = latency.samples[i];
+      std::fprintf(latency_log, "%.6f,%.3f,%llu", sample.sent_s, sample.latency_ms,
                    static_cast<unsigned long long>(sample.applied_tick));
+      if (options.stall_watch) std::fprintf(latency_log, ",%d", in_stall[i] ? 1 : 0);
+      std::fprintf(latency_log, "\n");
     }
     if (std::fclose(latency_log) != 0) {
       std::perror(("net_load: " + options.latency_log).c_str());

@@ -149,6 +149,55 @@ TEST(NetLoadSmoke, LatencyLogHoldsEveryTimedChange) {
   EXPECT_NEAR(number(report, "latency_ms_p99"), p99, 0.006);
 }
 
+// --stall-watch: the report counts the samples over the goal and those of
+// them that span a stall, and the log marks each sample that spans one.
+TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
+  if (geteuid() != 0) GTEST_SKIP() << "the stall watch needs SCHED_FIFO at priority 90 (root here)";
+  const std::filesystem::path log =
+      std::filesystem::temp_directory_path() / ("tumble-stall-log-" + std::to_string(::getpid()) + ".csv");
+  TumbledProcess server(kNoGravity);
+  ASSERT_TRUE(server.started()) << server.log();
+  const Report report =
+      run_net_load(server, {"--subscribers", "1", "--bodies", "10", "--stall-watch", "--latency-log", log.string()});
+  std::ifstream in(log);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line)) << "no " << log;
+  EXPECT_EQ(line, "sent_s,latency_ms,applied_tick,in_stall");
+  double over_goal = 0, over_goal_in_stall = 0, samples = 0;
+  while (std::getline(in, line)) {
+    double s = 0, l = 0;
+    unsigned long long t = 0;
+    int in_stall = -1;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%llu,%d", &s, &l, &t, &in_stall), 4) << line;
+    EXPECT_TRUE(in_stall == 0 || in_stall == 1) << line;
+    ++samples;
+    if (l > number(report, "latency_goal_ms")) {
+      ++over_goal;
+      over_goal_in_stall += in_stall;
+    }
+  }
+  std::filesystem::remove(log);
+  EXPECT_EQ(samples, number(report, "latency_samples"));
+  EXPECT_EQ(over_goal, number(report, "latency_over_goal"));
+  EXPECT_EQ(over_goal_in_stall, number(report, "latency_over_goal_in_stall"));
+  EXPECT_GE(number(report, "stalls"), 0);
+  EXPECT_GE(number(report, "stall_ms_max"), number(report, "stalls") > 0 ? 2.0 : 0.0);
+  EXPECT_GE(number(report, "stall_ms_total"), number(report, "stall_ms_max"));
+}
+
+// Without SCHED_FIFO (no RLIMIT_RTPRIO and, as root, no CAP_SYS_NICE after
+// exec) --stall-watch is a clear error before any load.
+TEST(NetLoadSmoke, StallWatchRefusedFailsFirst) {
+  std::vector<std::string> argv = {"/usr/bin/prlimit", "--rtprio=0"};
+  if (geteuid() == 0) argv.insert(argv.end(), {"/usr/bin/setpriv", "--bounding-set", "-sys_nice"});
+  argv.insert(argv.end(), {TUMBLE_NET_LOAD_PATH, "--server", "127.0.0.1:1", "--stall-watch"});
+  const CommandResult result = run_command(argv, std::chrono::seconds(30));
+  EXPECT_EQ(result.exit_code, 2) << result.err;
+  EXPECT_NE(result.err.find("net_load: --stall-watch: SCHED_FIFO at priority 90 refused"), std::string::npos)
+      << result.err;
+  EXPECT_EQ(result.out, "");
+}
+
 // A log it cannot write stops net_load before it loads the server.
 // (No server listens on port 1: had it connected first, the error would be
 // the refused connection.)
