@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -164,6 +165,7 @@ TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
   ASSERT_TRUE(std::getline(in, line)) << "no " << log;
   EXPECT_EQ(line, "sent_s,latency_ms,applied_tick,in_stall");
   double over_goal = 0, over_goal_in_stall = 0, samples = 0;
+  std::vector<double> outside_stalls_ms;
   while (std::getline(in, line)) {
     double s = 0, l = 0;
     unsigned long long t = 0;
@@ -171,6 +173,7 @@ TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
     ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%llu,%d", &s, &l, &t, &in_stall), 4) << line;
     EXPECT_TRUE(in_stall == 0 || in_stall == 1) << line;
     ++samples;
+    if (in_stall == 0) outside_stalls_ms.push_back(l);
     if (l > number(report, "latency_goal_ms")) {
       ++over_goal;
       over_goal_in_stall += in_stall;
@@ -180,6 +183,16 @@ TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
   EXPECT_EQ(samples, number(report, "latency_samples"));
   EXPECT_EQ(over_goal, number(report, "latency_over_goal"));
   EXPECT_EQ(over_goal_in_stall, number(report, "latency_over_goal_in_stall"));
+  EXPECT_EQ(samples - static_cast<double>(outside_stalls_ms.size()), number(report, "latency_in_stall"));
+  // The p99 outside the stalls is the nearest-rank quantile of the log's
+  // unmarked samples (the log has 3 decimals, the report 2).
+  ASSERT_FALSE(outside_stalls_ms.empty());
+  const double p99 = number(report, "latency_ms_p99_outside_stalls");
+  const auto rank = static_cast<std::ptrdiff_t>(std::ceil(0.99 * static_cast<double>(outside_stalls_ms.size())));
+  EXPECT_GE(std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l <= p99 + 0.005; }),
+            rank);
+  EXPECT_LT(std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l < p99 - 0.005; }),
+            rank);
   EXPECT_GE(number(report, "stalls"), 0);
   EXPECT_GE(number(report, "stall_ms_max"), number(report, "stalls") > 0 ? 2.0 : 0.0);
   EXPECT_GE(number(report, "stall_ms_total"), number(report, "stall_ms_max"));
