@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "net/asio.h"
+#include "cpu_keep_awake.h"
 #include "net/server.h"
 #include "realtime.h"
 #include "sim/journal.h"
@@ -149,6 +150,11 @@ int main(int argc, char** argv) {
                  "CAP_SYS_NICE or ulimit -r. 0: ordinary scheduling")
       ->capture_default_str()
       ->check(CLI::Range(0, tumble::kMaxRealtimePriority));
+  bool keep_cpus_awake = false;
+  app.add_flag("--keep-cpus-awake", keep_cpus_awake,
+               "Keep every CPU of tumbled's affinity mask from halting: a thread on each spins under SCHED_IDLE, "
+               "yielding to any other. On a virtual machine a halted CPU can resume milliseconds late; the CPUs "
+               "then read as fully busy");
   checkpoint_option->needs("--state");
   record_option->excludes(replay_option);
   app.set_version_flag("--version", kVersion);
@@ -285,6 +291,17 @@ int main(int argc, char** argv) {
                              std::chrono::duration<double>(checkpoint_interval)),
                          [&saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
     log->info("checkpointing the world to {} every {} s", state_path, checkpoint_interval);
+  }
+
+  // The spinners start before this thread changes its scheduling, so none
+  // of them ever spins under what the sim and I/O threads get.
+  tumble::CpuKeepAwake keep_awake;
+  if (keep_cpus_awake) {
+    if (auto status = keep_awake.start(); !status.ok()) {
+      log->error("--keep-cpus-awake: {}", status.message());
+      return 1;
+    }
+    log->info("keeping {} CPUs awake (a SCHED_IDLE spinner on each)", keep_awake.spinner_count());
   }
 
   // This thread becomes the I/O thread (io.run() below); the sim thread,

@@ -12,7 +12,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <thread>
+#include <vector>
 
 #include "tumbled_process.h"
 
@@ -237,7 +239,7 @@ TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   if (!may_use_fifo(3)) GTEST_SKIP() << "this process may not use SCHED_FIFO (no CAP_SYS_NICE, ulimit -r 0)";
   const std::string dir = make_temp_dir();
   TumbledProcess server(kScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state",
-                                 dir + "/world.state", "--checkpoint-interval", "60"});
+                                 dir + "/world.state", "--checkpoint-interval", "60", "--keep-cpus-awake"});
   ASSERT_TRUE(server.started()) << server.log();
   const auto threads = threads_once_running(server.process().pid(),
                                            {{"tumbled-sim", 1}, {"tumble-physics", 2}, {"tumbled-saver", 1}});
@@ -257,6 +259,10 @@ TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   EXPECT_EQ(threads.at("tumble-physics").priority, 3);
   // The checkpoint writer writes files: it stays ordinary.
   EXPECT_EQ(threads.at("tumbled-saver").policy, SCHED_OTHER);
+  // A spinner never spins under the sim's policy: it is started first and
+  // lowers itself before it spins.
+  ASSERT_TRUE(threads.contains("tumbled-awake")) << server.log();
+  EXPECT_EQ(threads.at("tumbled-awake").policy, SCHED_IDLE);
   EXPECT_NE(server.log().find("SCHED_FIFO at priority 3"), std::string::npos) << server.log();
 
   // And it serves and steps as ever.
@@ -266,6 +272,66 @@ TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   server.process().signal(SIGTERM);
   const auto code = server.process().wait(std::chrono::seconds(20));
   ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0) << server.log();
+}
+
+// Nanoseconds a thread has spent on a CPU (the first field of
+// /proc/<pid>/task/<tid>/schedstat); 0 when unreadable.
+std::uint64_t time_on_cpu_ns(pid_t pid, pid_t tid) {
+  std::ifstream file("/proc/" + std::to_string(pid) + "/task/" + std::to_string(tid) + "/schedstat");
+  std::uint64_t ns = 0;
+  file >> ns;
+  return ns;
+}
+
+TEST(Tumbled, KeepCpusAwakePinsAnIdleSpinnerToEachCpu) {
+  TumbledProcess server(kScene, {"--keep-cpus-awake"});
+  ASSERT_TRUE(server.started()) << server.log();
+  const pid_t pid = server.process().pid();
+  cpu_set_t mask;
+  ASSERT_EQ(sched_getaffinity(pid, sizeof mask, &mask), 0);
+  const int cpus = CPU_COUNT(&mask);
+  // The spinners run before tumbled listens: one per CPU of its mask, each
+  // pinned to a CPU of its own and under SCHED_IDLE.
+  std::vector<pid_t> spinners;
+  std::set<int> pinned;
+  std::error_code error;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", error)) {
+    if (read_file(task.path().string() + "/comm") != "tumbled-awake\n") continue;
+    const auto tid = static_cast<pid_t>(std::stol(task.path().filename().string()));
+    spinners.push_back(tid);
+    EXPECT_EQ(sched_getscheduler(tid), SCHED_IDLE) << tid;
+    cpu_set_t own;
+    ASSERT_EQ(sched_getaffinity(tid, sizeof own, &own), 0);
+    EXPECT_EQ(CPU_COUNT(&own), 1) << tid;
+    for (std::size_t cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+      if (CPU_ISSET(cpu, &own)) {
+        EXPECT_TRUE(CPU_ISSET(cpu, &mask)) << cpu;
+        pinned.insert(static_cast<int>(cpu));
+      }
+    }
+  }
+  EXPECT_EQ(static_cast<int>(spinners.size()), cpus);
+  EXPECT_EQ(static_cast<int>(pinned.size()), cpus);
+  EXPECT_NE(server.log().find("keeping " + std::to_string(cpus) + " CPUs awake"), std::string::npos) << server.log();
+  // They spin: each one's time on its CPU grows (under SCHED_IDLE, only by
+  // what the machine's other work leaves; bounded at 20 s).
+  for (const pid_t tid : spinners) {
+    const std::uint64_t start = time_on_cpu_ns(pid, tid);
+    bool grew = false;
+    for (int i = 0; i < 200 && !grew; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      grew = time_on_cpu_ns(pid, tid) > start;
+    }
+    EXPECT_TRUE(grew) << "the spinner " << tid << " never ran";
+  }
+  // And it serves and steps as ever, and stops cleanly.
+  const CommandResult bodies = server.cli({"bodies"});
+  EXPECT_EQ(bodies.exit_code, 0) << bodies.err;
+  EXPECT_NE(bodies.out.find("crate"), std::string::npos) << bodies.out;
+  server.process().signal(SIGTERM);
+  const auto code = server.process().wait(std::chrono::seconds(20));
+  ASSERT_TRUE(code.has_value()) << "tumbled did not stop";
   EXPECT_EQ(*code, 0) << server.log();
 }
 
