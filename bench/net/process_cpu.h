@@ -9,8 +9,10 @@
 namespace tumble::bench {
 
 // User plus system CPU time a process has used so far, in seconds
-// (utime + stime of /proc/<pid>/stat); nullopt when the process cannot be
-// read (gone, or another user's without permission).
+// (utime + stime of /proc/<pid>/stat), less that of its threads now under
+// SCHED_IDLE (tumbled --keep-cpus-awake: they spin on the time nothing
+// else wants, and are not the process's work); nullopt when the process
+// cannot be read (gone, or another user's without permission).
 std::optional<double> process_cpu_seconds(pid_t pid);
 
 // Share of one core a process used between two readings, in percent:
