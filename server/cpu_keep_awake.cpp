@@ -10,22 +10,10 @@
 #include <string>
 #include <utility>
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <immintrin.h>
-#endif
+#include "physics/cpu_relax.h"
 
 namespace tumble {
 namespace {
-
-// Tells the core this is a wait loop: on x86 it slows the loop and frees
-// the core's shared resources for a sibling hyperthread.
-void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  _mm_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
 
 // One spinner's life: pinned to `cpu`, then lowered to SCHED_IDLE, then
 // spinning until `stopping`. Says through `ready` whether it got there
@@ -45,7 +33,7 @@ void spin(std::size_t cpu, const std::atomic<bool>& stopping, std::promise<std::
     return;
   }
   ready.set_value(std::string());
-  while (!stopping.load(std::memory_order_relaxed)) cpu_relax();
+  while (!stopping.load(std::memory_order_relaxed)) physics::cpu_relax();
 }
 
 }  // namespace

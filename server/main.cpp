@@ -9,8 +9,8 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
-#include "net/asio.h"
 #include "cpu_keep_awake.h"
+#include "net/asio.h"
 #include "net/server.h"
 #include "realtime.h"
 #include "sim/journal.h"

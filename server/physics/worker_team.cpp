@@ -2,13 +2,11 @@
 
 #include <cassert>
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <immintrin.h>
-#endif
-
 #if defined(__linux__)
 #include <pthread.h>
 #endif
+
+#include "physics/cpu_relax.h"
 
 namespace tumble::physics {
 namespace {
@@ -20,14 +18,6 @@ constexpr int kHelperSpins = 2000;
 // The owner checks for the last tasks this many times before it sleeps on
 // the count of finished tasks.
 constexpr int kOwnerSpins = 4000;
-
-void cpu_relax() {
-#if defined(__x86_64__) || defined(__i386__)
-  _mm_pause();
-#else
-  std::this_thread::yield();
-#endif
-}
 
 // The task number of a job whose claims are closed: above any count.
 constexpr std::uint32_t kClosed = 0xffffffff;
