@@ -14,6 +14,7 @@
 #include <map>
 #include <set>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "tumbled_process.h"
@@ -154,13 +155,21 @@ bool kernel_takes_slices() {
   }).join();
   return taken;
 }
-std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
-  std::map<std::string, ThreadScheduling> threads;
+// The threads of pid now: id and name (/proc/<pid>/task/<tid>/comm).
+std::vector<std::pair<pid_t, std::string>> threads_of(pid_t pid) {
+  std::vector<std::pair<pid_t, std::string>> threads;
   std::error_code error;
   for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", error)) {
     std::string name = read_file(task.path().string() + "/comm");
     if (!name.empty() && name.back() == '\n') name.pop_back();
-    const auto tid = static_cast<pid_t>(std::stol(task.path().filename().string()));
+    threads.emplace_back(static_cast<pid_t>(std::stol(task.path().filename().string())), std::move(name));
+  }
+  return threads;
+}
+
+std::map<std::string, ThreadScheduling> thread_scheduling(pid_t pid) {
+  std::map<std::string, ThreadScheduling> threads;
+  for (const auto& [tid, name] : threads_of(pid)) {
     ThreadScheduling scheduling;
     scheduling.policy = sched_getscheduler(tid);
     sched_param param{};
@@ -295,10 +304,8 @@ TEST(Tumbled, KeepCpusAwakePinsAnIdleSpinnerToEachCpu) {
   // pinned to a CPU of its own and under SCHED_IDLE.
   std::vector<pid_t> spinners;
   std::set<int> pinned;
-  std::error_code error;
-  for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task", error)) {
-    if (read_file(task.path().string() + "/comm") != "tumbled-awake\n") continue;
-    const auto tid = static_cast<pid_t>(std::stol(task.path().filename().string()));
+  for (const auto& [tid, name] : threads_of(pid)) {
+    if (name != "tumbled-awake") continue;
     spinners.push_back(tid);
     EXPECT_EQ(sched_getscheduler(tid), SCHED_IDLE) << tid;
     cpu_set_t own;
