@@ -1,0 +1,15 @@
+# TUMBLE_CCACHE (default ON): compile through ccache when it is installed.
+# The cache lives where ccache keeps it (~/.cache/ccache), outside the
+# build tree, so a fresh clone or a new build directory reuses it. Paths are
+# hashed relative to the source tree (base_dir), so two clones share hits;
+# the sloppiness lets precompiled headers be cached too.
+option(TUMBLE_CCACHE "Compile through ccache when it is installed" ON)
+if(TUMBLE_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
+  find_program(TUMBLE_CCACHE_PROGRAM ccache)
+  if(TUMBLE_CCACHE_PROGRAM)
+    set(CMAKE_CXX_COMPILER_LAUNCHER
+        ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${CMAKE_SOURCE_DIR}
+        CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
+        ${TUMBLE_CCACHE_PROGRAM})
+  endif()
+endif()
