@@ -10,18 +10,21 @@
 # The browser viewer's tests (label "viewer") need chromium and web/'s npm
 # packages; install-deps.sh --viewer installs them first.
 #
-# SANITIZE picks a sanitizer build of its own instead (no benchmarks):
+# SANITIZE picks a sanitizer build of its own instead, at -O1 with
+# assertions on (CMAKE_BUILD_TYPE=Debug, CMAKE_CXX_FLAGS_DEBUG=-O1), without
+# the benchmarks:
 #   SANITIZE=address  AddressSanitizer and UndefinedBehaviorSanitizer, in
-#                     build-asan/; every test but docker, bench and the slow one.
+#                     build-asan/; every test but docker, bench, the slow
+#                     one and the pure JavaScript ones (label js).
 #   SANITIZE=thread   ThreadSanitizer, in build-tsan/; only the tests that
-#                     run threads (labels net, sim, e2e, and physics for the
-#                     islands on helper threads), without the slow one.
-# A sanitizer's report fails the test it comes from.
+#                     start threads (label threads), without the slow one.
+# A sanitizer's report, or a failed assertion, fails the test it comes from.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 ./scripts/install-deps.sh --viewer
 ctest_args=(--output-on-failure -j 2 --timeout 600)
+sanitizer_args=(-DCMAKE_CXX_FLAGS_DEBUG=-O1 -DTUMBLE_BUILD_BENCH=OFF)
 case "${SANITIZE:-}" in
   "")
     ./scripts/build.sh
@@ -39,16 +42,18 @@ case "${SANITIZE:-}" in
     ;;
   address)
     build_dir=${BUILD_DIR:-build-asan}
-    BUILD_DIR=$build_dir ./scripts/build.sh -DTUMBLE_SANITIZE=address,undefined -DTUMBLE_BUILD_BENCH=OFF
+    BUILD_DIR=$build_dir BUILD_TYPE=Debug ./scripts/build.sh "${sanitizer_args[@]}" \
+      -DTUMBLE_SANITIZE=address,undefined
     # Not the slow never-reader test either: it bounds RSS and the stepping
-    # rate, which ASan's shadow memory and quarantine distort.
-    ctest_args+=(-LE 'docker|bench|slow')
+    # rate, which ASan's shadow memory and quarantine distort. The pure
+    # JavaScript tests run no code of ours that a sanitizer could watch.
+    ctest_args+=(-LE 'docker|bench|slow|js')
     ;;
   thread)
     build_dir=${BUILD_DIR:-build-tsan}
-    BUILD_DIR=$build_dir TARGETS="physics_tests net_tests sim_tests e2e_tests e2e_bad_input_tests" \
-      ./scripts/build.sh -DTUMBLE_SANITIZE=thread -DTUMBLE_BUILD_BENCH=OFF
-    ctest_args+=(-L 'physics|net|sim|e2e' -LE slow)
+    BUILD_DIR=$build_dir BUILD_TYPE=Debug TARGETS=threaded_tests \
+      ./scripts/build.sh "${sanitizer_args[@]}" -DTUMBLE_SANITIZE=thread
+    ctest_args+=(-L threads -LE slow)
     ;;
   *)
     echo "test.sh: SANITIZE is address or thread, not '$SANITIZE'" >&2
