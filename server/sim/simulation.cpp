@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 
 #include "sim/body_spec.h"
 #include "sim/log.h"
@@ -237,9 +236,10 @@ void Simulation::submit(Command command) {
 
 void Simulation::request_snapshot() { snapshot_requested_.store(true, std::memory_order_relaxed); }
 
-void Simulation::set_publish_interest(std::vector<PublishInterest> interest) {
+void Simulation::set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies) {
   std::lock_guard lock(interest_mutex_);
   published_interest_ = std::move(interest);
+  published_early_bodies_ = early_bodies;
   interest_changed_ = true;
 }
 
@@ -359,8 +359,8 @@ void Simulation::advance() {
     step_command_ = Command{};
   }
   flush_events();
-  const Due due = publish_due();
-  if (due == Due::nothing) {
+  const PublishPlan::Due due = plan_publish();
+  if (due == PublishPlan::Due::nothing) {
     edited_ = false;
     return;
   }
@@ -368,8 +368,8 @@ void Simulation::advance() {
   // first, in a snapshot of their own, or the copy of the large one would
   // hold their frames back (about a millisecond for 10,000 bodies on this
   // kind of machine, on every tick of a 60 Hz stream of all of them).
-  if (!early_.empty()) publish(&early_, false, true);
-  publish(due == Due::every_body ? nullptr : &collect_wanted(), false);
+  if (!plan_.early().empty()) publish(&plan_.early(), false, true);
+  publish(due == PublishPlan::Due::every_body ? nullptr : &plan_.collect_wanted(), false);
   edited_ = false;
 }
 
@@ -402,70 +402,16 @@ void Simulation::flush_events() {
   events_.clear();
 }
 
-namespace {
-
-// Adds the sorted, unique `ids` to the sorted, unique `into`: a merge, not
-// a sort (the filters are sorted already; sorting the 10,001 ids due on a
-// fan-out tick was a fifth of the sim thread's samples under perf, on
-// bench/README's (c)). `scratch` keeps its capacity.
-void merge_into(std::vector<physics::BodyId>& into, const std::vector<physics::BodyId>& ids,
-                std::vector<physics::BodyId>& scratch) {
-  if (into.empty()) {
-    into.assign(ids.begin(), ids.end());
-    return;
-  }
-  scratch.clear();
-  std::set_union(into.begin(), into.end(), ids.begin(), ids.end(), std::back_inserter(scratch));
-  into.swap(scratch);
-}
-
-// Whether a snapshot of `wanted` bodies by id is taken as a copy of every
-// body instead: most of the world costs less in one pass over the dense
-// arrays than a lookup a body, and covers the same. A set small enough to
-// go early never is (a tiny world keeps its filter).
-bool copies_every_body(std::size_t wanted, std::size_t world) {
-  return wanted > kEarlySnapshotBodies && 2 * wanted >= world;
-}
-
-}  // namespace
-
-Simulation::Due Simulation::publish_due() {
+PublishPlan::Due Simulation::plan_publish() {
   {
     std::lock_guard lock(interest_mutex_);
     if (interest_changed_) {
-      interest_ = std::move(published_interest_);
+      plan_.set_interests(std::move(published_interest_), published_early_bodies_);
       interest_changed_ = false;
     }
   }
-  bool every_body = snapshot_requested_.exchange(false, std::memory_order_relaxed);
-  due_.clear();
-  early_.clear();
-  bool large = false;
-  for (std::size_t i = 0; i < interest_.size(); ++i) {
-    const PublishInterest& interest = interest_[i];
-    if (interest.period_ticks == 0 || next_tick_ % interest.period_ticks != 0) continue;
-    if (interest.all_bodies) {
-      every_body = true;
-      continue;
-    }
-    due_.push_back(i);
-    if (publishes_early(interest.all_bodies, interest.bodies)) {
-      merge_into(early_, interest.bodies, merge_scratch_);
-    } else {
-      large = true;
-      // The union holds at least these: most of the world on its own.
-      if (copies_every_body(interest.bodies.size(), world_.body_count())) every_body = true;
-    }
-  }
-  if (!large && !every_body) early_.clear();  // nothing large to go before: early_ stays empty
-  if (every_body) return Due::every_body;
-  return due_.empty() ? Due::nothing : Due::wanted_bodies;
-}
-
-const std::vector<physics::BodyId>& Simulation::collect_wanted() {
-  wanted_.clear();
-  for (const std::size_t i : due_) merge_into(wanted_, interest_[i].bodies, merge_scratch_);
-  return wanted_;
+  const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
+  return plan_.plan(next_tick_, world_.body_count(), requested);
 }
 
 void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows) {
@@ -475,7 +421,7 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   snapshot->sim_time = time_of(next_tick_);
   snapshot->out_of_band = out_of_band;
   snapshot->more_follows = more_follows;
-  const bool every_body = bodies == nullptr || copies_every_body(bodies->size(), world_.body_count());
+  const bool every_body = bodies == nullptr || plan_.copies_every_body(bodies->size(), world_.body_count());
   snapshot->all_bodies = every_body;
   std::size_t n = world_.body_count();
   if (!every_body) {

@@ -29,6 +29,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -44,6 +45,7 @@
 #include "sim/command.h"
 #include "sim/journal.h"
 #include "sim/publish_interest.h"
+#include "sim/publish_plan.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
 #include "sim/tick_timing.h"
@@ -130,9 +132,11 @@ class Simulation {
   // What the active subscriptions read: a snapshot is published after
   // every tick that one of the periods divides, holding the bodies of the
   // interests due at that tick (every body when one of them asks for all).
-  // Replaces the previous interest; empty: nothing is published but what
-  // request_snapshot() and edits while paused ask for.
-  void set_publish_interest(std::vector<PublishInterest> interest);
+  // Interests of at most early_bodies bodies go early (sim/publish_plan.h);
+  // the publisher draws that line. Replaces the previous interest; empty:
+  // nothing is published but what request_snapshot() and edits while
+  // paused ask for.
+  void set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies);
 
   // Whether to watch for bodies falling asleep and waking (a scan of the
   // bodies after every step), because a subscriber asked for those events.
@@ -176,16 +180,9 @@ class Simulation {
   // or when they are most of the world; more_follows: a larger snapshot of
   // this tick comes next.
   void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
-  // Whether a snapshot is due after this tick: of every body when one was
-  // requested, a due interest wants all or alone names most of the world,
-  // else of the due interests' bodies (collect_wanted). early_ then holds
-  // the bodies of the due interests of at most kEarlySnapshotBodies bodies
-  // when there are larger ones beside them: they are published before the
-  // large set is even gathered.
-  enum class Due { nothing, wanted_bodies, every_body };
-  Due publish_due();
-  // The union of the due interests' bodies, sorted, in wanted_.
-  const std::vector<physics::BodyId>& collect_wanted();
+  // Takes up the latest interest and a requested snapshot, and plans the
+  // snapshots of this tick in plan_.
+  PublishPlan::Due plan_publish();
 
   void flush_events();
   // Reports, as events of `tick`, the dynamic bodies whose sleep changed
@@ -229,11 +226,7 @@ class Simulation {
   BodyLoads loads_;
   BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
   std::vector<Command> draining_;
-  std::vector<PublishInterest> interest_;  // the sim thread's copy of published_interest_
-  std::vector<std::size_t> due_;            // indices in interest_ of the interests due at this tick
-  std::vector<physics::BodyId> wanted_;     // their bodies, sorted (collect_wanted)
-  std::vector<physics::BodyId> merge_scratch_;
-  std::vector<physics::BodyId> early_;      // those of the small ones, when larger ones are due too
+  PublishPlan plan_;                    // holds the sim thread's copy of published_interest_
   std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
   double dt_;                           // s, 1 / tick rate
   std::uint64_t rate_since_tick_ = 0;   // the tick at which dt_ took effect
@@ -261,6 +254,7 @@ class Simulation {
   CommandQueue commands_;
   std::mutex interest_mutex_;
   std::vector<PublishInterest> published_interest_;  // guarded by interest_mutex_
+  std::size_t published_early_bodies_ = 0;           // guarded by interest_mutex_
   bool interest_changed_ = false;                    // guarded by interest_mutex_
   std::atomic<bool> snapshot_requested_{false};
   std::atomic<bool> sleep_events_wanted_{false};
