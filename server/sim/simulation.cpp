@@ -1,7 +1,5 @@
 #include "sim/simulation.h"
 
-#include <pthread.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -160,7 +158,11 @@ void Simulation::checkpoint_if_due() {
 }
 
 Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
-    : config_(config), scene_(scene), dt_(1.0 / config.tick_rate_hz), tick_rate_hz_(config.tick_rate_hz) {}
+    : config_(config),
+      scene_(scene),
+      dt_(1.0 / config.tick_rate_hz),
+      tick_rate_hz_(config.tick_rate_hz),
+      loop_(config.max_catch_up_ticks) {}
 
 Simulation::~Simulation() { stop(); }
 
@@ -203,21 +205,17 @@ void Simulation::set_snapshot_listener(SnapshotListener listener) { listener_ = 
 void Simulation::set_event_listener(WorldEventListener listener) { event_listener_ = std::move(listener); }
 
 void Simulation::start() {
-  if (thread_.joinable()) return;
-  {
-    std::lock_guard lock(run_mutex_);
-    stopping_ = false;
-  }
-  thread_ = std::thread([this] { run_loop(); });
+  loop_.start(
+      // The physics helpers start here so they inherit the sim thread's
+      // scheduling (SCHED_FIFO under --realtime-priority): the step waits for
+      // an island a helper has begun, and a helper behind ordinary processes
+      // would stall it.
+      [this] { world_.set_thread_count(config_.physics_threads); },
+      [this](double late_ms) { run_pass(late_ms); }, [this] { return tick_rate_hz(); });
 }
 
 void Simulation::stop() {
-  {
-    std::lock_guard lock(run_mutex_);
-    stopping_ = true;
-  }
-  run_wakeup_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  loop_.stop();
   if (journal_ != nullptr) journal_->finish(next_tick_);
   journal_ = nullptr;  // finished: a second stop() (the destructor's) writes nothing
 }
@@ -245,53 +243,10 @@ void Simulation::set_publish_interest(std::vector<PublishInterest> interest, std
 
 void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.store(wanted, std::memory_order_relaxed); }
 
-void Simulation::run_loop() {
-  // Named for top -H, perf and /proc/PID/task/*/comm (at most 15 characters).
-  pthread_setname_np(pthread_self(), "tumbled-sim");
-  // The physics helpers start here so they inherit this thread's scheduling
-  // (SCHED_FIFO under --realtime-priority): the step waits for an island a
-  // helper has begun, and a helper behind ordinary processes would stall it.
-  world_.set_thread_count(config_.physics_threads);
-  double loop_dt = dt_;
-  auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
-  Clock::time_point start = Clock::now();
-  std::uint64_t ticks_since_start = 0;
-  sim_log().info("stepping at {} Hz", tick_rate_hz());
-
-  std::unique_lock lock(run_mutex_);
-  Clock::time_point due = start;  // when this pass should begin
-  while (!stopping_) {
-    lock.unlock();
-    // Late after a deadline: woken late, or behind (the last pass overran).
-    timing_.record_start_late(std::max(0.0, milliseconds(Clock::now() - due)));
-    run_tick();
-    checkpoint_if_due();
-    ++ticks_since_start;
-    if (dt_ != loop_dt) {
-      // SetTickRate: count deadlines afresh at the new period from the end of this pass.
-      loop_dt = dt_;
-      period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
-      start = Clock::now();
-      ticks_since_start = 1;
-      sim_log().info("stepping at {} Hz", tick_rate_hz());
-    }
-    // Absolute deadlines: tick n ends at start + n * period, no accumulation of sleep error.
-    const Clock::time_point deadline = start + ticks_since_start * period;
-    const Clock::time_point now = Clock::now();
-    due = deadline;
-    lock.lock();
-    if (now < deadline) {
-      run_wakeup_.wait_until(lock, deadline, [this] { return stopping_; });
-    } else if (now - deadline > config_.max_catch_up_ticks * period) {
-      // Too far behind to catch up: skip the missed ticks and start counting again from now.
-      const auto missed = static_cast<std::uint64_t>((now - deadline) / period);
-      overruns_.fetch_add(missed, std::memory_order_relaxed);
-      sim_log().warn("fell {} ticks behind the clock; skipped them", missed);
-      start = now;
-      ticks_since_start = 0;
-      due = now;
-    }
-  }
+void Simulation::run_pass(double late_ms) {
+  timing_.record_start_late(late_ms);
+  run_tick();
+  checkpoint_if_due();
 }
 
 void Simulation::run_tick() {

@@ -6,10 +6,11 @@
 // the rate does not drift. At each tick the sim thread drains the command
 // queue and applies the commands, steps the world once, and, when a
 // subscription is due, publishes a Snapshot of the bodies the due
-// subscriptions read (sim/publish_interest.h). A tick that finishes late is
+// subscriptions read (sim/publish_plan.h). A tick that finishes late is
 // followed at once by the next; a sim that falls more than
 // max_catch_up_ticks behind skips the missed ticks and counts them as
-// overruns. The sim thread never waits on anything but its clock.
+// overruns (sim/tick_loop.h). The sim thread never waits on anything but
+// its clock.
 //
 // Paused, the loop keeps its cadence and keeps applying commands, but does
 // not step: the tick stays put. A Step request then runs its ticks back to
@@ -28,7 +29,6 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -36,7 +36,6 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "physics/world.h"
@@ -48,6 +47,7 @@
 #include "sim/publish_plan.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
+#include "sim/tick_loop.h"
 #include "sim/tick_timing.h"
 #include "sim/world_event.h"
 #include "tumble/v1/scene.pb.h"
@@ -60,7 +60,7 @@ struct SimConfig {
   std::uint32_t max_catch_up_ticks = 8;  // late ticks run back to back before the rest are skipped
   std::uint32_t max_bodies = 100000;     // SpawnBody beyond it is RESOURCE_EXHAUSTED
   // Threads that solve the world's contact islands, the sim thread included
-  // (physics::World::set_thread_count); the helpers start with run_loop().
+  // (physics::World::set_thread_count); the helpers start with the sim thread.
   int physics_threads = 1;
 };
 
@@ -154,7 +154,7 @@ class Simulation {
   std::uint32_t body_count() const { return body_count_.load(std::memory_order_relaxed); }
   bool paused() const { return paused_flag_.load(std::memory_order_relaxed); }
   // Ticks skipped because the sim fell too far behind its clock.
-  std::uint64_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
+  std::uint64_t overruns() const { return loop_.overruns(); }
 
   // The world and its loads, for tests that run the sim with run_tick();
   // not while started.
@@ -171,7 +171,8 @@ class Simulation {
   // Fills an empty world and directory with the bodies of scene_.
   Status build_world(physics::World* world, BodyDirectory* directory) const;
 
-  void run_loop();
+  // One pass of the clock loop on the sim thread.
+  void run_pass(double late_ms);
   // One step: loads, World::step, the tick, sleep changes, a Step's
   // countdown, events and the snapshot if due.
   void advance();
@@ -263,13 +264,9 @@ class Simulation {
   std::atomic<double> sim_time_{0};
   std::atomic<std::uint32_t> body_count_{0};
   std::atomic<bool> paused_flag_{false};
-  std::atomic<std::uint64_t> overruns_{0};
   mutable std::mutex directory_mutex_;  // guards directory_ against readers on other threads
 
-  std::mutex run_mutex_;
-  std::condition_variable run_wakeup_;
-  bool stopping_ = false;
-  std::thread thread_;
+  TickLoop loop_;  // the sim thread; last, so that it stops before the state it runs on goes
 };
 
 }  // namespace tumble::sim
