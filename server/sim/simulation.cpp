@@ -122,39 +122,11 @@ void Simulation::capture(tumble::v1::WorldState* state) const {
   *state->mutable_scene() = scene_;
 }
 
-void Simulation::set_journal(JournalWriter* journal) { journal_ = journal; }
+void Simulation::set_journal(JournalWriter* journal) { record_.set_journal(journal); }
 
 void Simulation::set_checkpoints(std::chrono::steady_clock::duration interval,
                                  std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink) {
-  checkpoint_interval_ = interval;
-  checkpoint_sink_ = std::move(sink);
-  next_checkpoint_ = Clock::now() + interval;
-}
-
-void Simulation::record(const ClientMessage& message) {
-  if (journal_ == nullptr) return;
-  switch (message.kind_case()) {
-    case ClientMessage::kListBodies:
-    case ClientMessage::kGetStats:
-      return;  // they read the world and change nothing
-    default:
-      break;
-  }
-  journal_->record(next_tick_, message);
-  journal_dirty_ = true;
-}
-
-void Simulation::checkpoint_if_due() {
-  if (!checkpoint_sink_) return;
-  const Clock::time_point now = Clock::now();
-  if (now < next_checkpoint_) return;
-  next_checkpoint_ = now + checkpoint_interval_;
-  // A paused, untouched world is already on disk.
-  if (world_version_ == checkpointed_version_) return;
-  checkpointed_version_ = world_version_;
-  auto state = std::make_shared<tumble::v1::WorldState>();
-  capture(state.get());
-  checkpoint_sink_(std::move(state));
+  record_.set_checkpoints(interval, std::move(sink), [this](tumble::v1::WorldState* state) { capture(state); });
 }
 
 Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
@@ -216,8 +188,7 @@ void Simulation::start() {
 
 void Simulation::stop() {
   loop_.stop();
-  if (journal_ != nullptr) journal_->finish(next_tick_);
-  journal_ = nullptr;  // finished: a second stop() (the destructor's) writes nothing
+  record_.finish(next_tick_);
 }
 
 void Simulation::submit(Command command) {
@@ -246,7 +217,7 @@ void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.sto
 void Simulation::run_pass(double late_ms) {
   timing_.record_start_late(late_ms);
   run_tick();
-  checkpoint_if_due();
+  record_.checkpoint_if_due();
 }
 
 void Simulation::run_tick() {
@@ -255,15 +226,12 @@ void Simulation::run_tick() {
   double cpu_started = TickTiming::thread_cpu_ms();
   commands_.drain(draining_);
   for (Command& command : draining_) {
-    record(command.message);
+    record_.record(next_tick_, command.message);
     apply(command);
   }
-  if (!draining_.empty()) ++world_version_;
+  if (!draining_.empty()) record_.note_change();
   draining_.clear();
-  if (journal_dirty_) {
-    journal_->flush();
-    journal_dirty_ = false;
-  }
+  record_.flush();
 
   if (!paused_) {
     advance();
@@ -294,7 +262,7 @@ void Simulation::run_tick() {
 }
 
 void Simulation::advance() {
-  ++world_version_;
+  record_.note_change();
   loads_.apply(world_);
   world_.step(dt_);
   ++next_tick_;

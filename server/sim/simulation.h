@@ -45,6 +45,7 @@
 #include "sim/journal.h"
 #include "sim/publish_interest.h"
 #include "sim/publish_plan.h"
+#include "sim/run_record.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
 #include "sim/tick_loop.h"
@@ -215,9 +216,6 @@ class Simulation {
   ServerMessage reset(const ClientMessage& message);
   ServerMessage set_tick_rate(const ClientMessage& message);
   ServerMessage stats(const ClientMessage& message) const;
-  // Journal (set_journal) and checkpoints (set_checkpoints).
-  void record(const ClientMessage& message);
-  void checkpoint_if_due();
 
   const SimConfig config_;
   const tumble::v1::Scene scene_;  // the world Reset goes back to
@@ -241,13 +239,7 @@ class Simulation {
   WorldEvents events_;                  // of the tick being made
   TickTiming timing_;
   bool replaying_ = false;
-  JournalWriter* journal_ = nullptr;
-  bool journal_dirty_ = false;          // recorded since the last flush
-  std::chrono::steady_clock::duration checkpoint_interval_{};
-  std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> checkpoint_sink_;
-  std::chrono::steady_clock::time_point next_checkpoint_{};
-  std::uint64_t checkpointed_version_ = 0;  // world_version_ at the last checkpoint
-  std::uint64_t world_version_ = 1;         // grows with every step and every executed command
+  RunRecord record_;                    // the journal and the checkpoints
   SnapshotListener listener_;
   WorldEventListener event_listener_;
 
