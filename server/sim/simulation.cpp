@@ -252,7 +252,7 @@ void Simulation::run_tick() {
     } while (paused_ && steps_left_ > 0 && started < budget_end && !replaying_);
   } else {
     // No step: show edits at once, and serve a new subscriber's first frame.
-    if (edited_ && tracking_sleep_) track_sleep(next_tick_);
+    if (edited_ && sleep_.watching()) sleep_.scan(world_, directory_, next_tick_, &events_);
     flush_events();
     const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
     if (edited_ || requested) publish(nullptr, edited_);
@@ -269,13 +269,13 @@ void Simulation::advance() {
   tick_.store(next_tick_, std::memory_order_relaxed);
   sim_time_.store(time_of(next_tick_), std::memory_order_relaxed);
 
-  const bool wanted = sleep_events_wanted_.load(std::memory_order_relaxed);
-  if (wanted && !tracking_sleep_) {
-    start_tracking_sleep();  // only changes from now on are events
-  } else if (wanted) {
-    track_sleep(next_tick_);
+  if (!sleep_events_wanted_.load(std::memory_order_relaxed)) {
+    sleep_.stop();
+  } else if (!sleep_.watching()) {
+    sleep_.start(world_);  // only changes from now on are events
+  } else {
+    sleep_.scan(world_, directory_, next_tick_, &events_);
   }
-  tracking_sleep_ = wanted;
 
   if (steps_left_ > 0 && --steps_left_ == 0) {
     if (step_command_.reply) step_command_.reply(ack(step_command_.message, next_tick_));
@@ -294,29 +294,6 @@ void Simulation::advance() {
   if (!plan_.early().empty()) publish(&plan_.early(), false, true);
   publish(due == PublishPlan::Due::every_body ? nullptr : &plan_.collect_wanted(), false);
   edited_ = false;
-}
-
-void Simulation::track_sleep(std::uint64_t tick) {
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    if (!is_dynamic(world_, id)) continue;
-    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
-    const std::uint8_t awake = world_.is_awake(id) ? 1 : 0;
-    if (awake == awake_[id]) continue;
-    awake_[id] = awake;
-    events_.push_back({tick, awake ? WorldEventKind::body_awake : WorldEventKind::body_asleep, id,
-                       directory_.name_of(id)});
-  }
-}
-
-void Simulation::start_tracking_sleep() {
-  tracking_sleep_ = true;
-  awake_.clear();
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
-    awake_[id] = world_.is_awake(id) ? 1 : 0;
-  }
 }
 
 void Simulation::flush_events() {
@@ -485,10 +462,7 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
 
 void Simulation::note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick) {
   events_.push_back({tick, WorldEventKind::body_spawned, id, name});
-  if (tracking_sleep_ && is_dynamic(world_, id)) {
-    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
-    awake_[id] = world_.is_awake(id) ? 1 : 0;
-  }
+  sleep_.add(world_, id);
 }
 
 ServerMessage Simulation::spawn_body(const Command& command) {
@@ -633,7 +607,7 @@ ServerMessage Simulation::reset(const ClientMessage& message) {
   set_directory(std::move(directory));
   loads_.clear();
   refresh_body_count();
-  if (tracking_sleep_) start_tracking_sleep();  // the fresh world's states, without events
+  if (sleep_.watching()) sleep_.start(world_);  // the fresh world's states, without events
   for (physics::BodyId id : restored) note_spawned(id, directory_.name_of(id), tick);
   edited_ = true;
   sim_log().info("reset to the scene at tick {}", next_tick_);

@@ -46,6 +46,7 @@
 #include "sim/publish_interest.h"
 #include "sim/publish_plan.h"
 #include "sim/run_record.h"
+#include "sim/sleep_watch.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
 #include "sim/tick_loop.h"
@@ -187,11 +188,6 @@ class Simulation {
   PublishPlan::Due plan_publish();
 
   void flush_events();
-  // Reports, as events of `tick`, the dynamic bodies whose sleep changed
-  // since the last scan.
-  void track_sleep(std::uint64_t tick);
-  // Records every body's sleep as it is now, without events.
-  void start_tracking_sleep();
   void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
   void set_directory(BodyDirectory directory);
   void refresh_body_count();
@@ -234,8 +230,7 @@ class Simulation {
   std::uint32_t steps_left_ = 0;        // ticks of the Step under way
   Command step_command_;                // the Step under way, answered when steps_left_ reaches 0
   bool edited_ = false;                 // the world was edited since the last snapshot
-  bool tracking_sleep_ = false;         // awake_ is kept up to date
-  std::vector<std::uint8_t> awake_;     // by body id, while tracking_sleep_: 1 when awake at the last scan
+  SleepWatch sleep_;                    // watching while sleep_events_wanted_
   WorldEvents events_;                  // of the tick being made
   TickTiming timing_;
   bool replaying_ = false;
