@@ -4,13 +4,13 @@
 //
 // Tick n ends at the absolute deadline t0 + n * dt on the steady clock, so
 // the rate does not drift. At each tick the sim thread drains the command
-// queue and applies the commands, steps the world once, and, when a
-// subscription is due, publishes a Snapshot of the bodies the due
-// subscriptions read (sim/publish_plan.h). A tick that finishes late is
-// followed at once by the next; a sim that falls more than
+// queue and applies the commands (sim/command_handlers.cpp), steps the
+// world once, and, when a subscription is due, publishes a Snapshot of the
+// bodies the due subscriptions read (sim/publish_plan.h). A tick that
+// finishes late is followed at once by the next; a sim that falls more than
 // max_catch_up_ticks behind skips the missed ticks and counts them as
 // overruns (sim/tick_loop.h). The sim thread never waits on anything but
-// its clock.
+// its clock. The journal and checkpoints: sim/run_record.h.
 //
 // Paused, the loop keeps its cadence and keeps applying commands, but does
 // not step: the tick stays put. A Step request then runs its ticks back to
@@ -178,7 +178,6 @@ class Simulation {
   // One step: loads, World::step, the tick, sleep changes, a Step's
   // countdown, events and the snapshot if due.
   void advance();
-  void apply(Command& command);
   // Publishes a snapshot of `bodies` (sorted), or of every body when null
   // or when they are most of the world; more_follows: a larger snapshot of
   // this tick comes next.
@@ -188,15 +187,18 @@ class Simulation {
   PublishPlan::Due plan_publish();
 
   void flush_events();
-  void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
   void set_directory(BodyDirectory directory);
   void refresh_body_count();
   double time_of(std::uint64_t tick) const;
+
+  // The command handlers (sim/command_handlers.cpp). apply() executes one
+  // command on the sim thread and hands its reply to command.reply.
+  void apply(Command& command);
+  void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
   // The tick whose state first shows an edit applied now: the next step's,
   // or the current one while paused.
   std::uint64_t edit_tick() const { return paused_ ? next_tick_ : next_tick_ + 1; }
   std::uint32_t duration_ticks(bool has_seconds, double seconds, bool has_ticks, std::uint32_t ticks) const;
-
   ServerMessage apply_force(const ClientMessage& message);
   ServerMessage apply_torque(const ClientMessage& message);
   ServerMessage apply_impulse(const ClientMessage& message);
