@@ -244,7 +244,7 @@ void Simulation::advance() {
     edited_ = false;
     return;
   }
-  // With a large snapshot due, the small streams' bodies (early_) go
+  // With a large snapshot due, the small streams' bodies (plan_.early()) go
   // first, in a snapshot of their own, or the copy of the large one would
   // hold their frames back (about a millisecond for 10,000 bodies on this
   // kind of machine, on every tick of a 60 Hz stream of all of them).
