@@ -26,6 +26,16 @@ std::uint32_t kind_bit(int kind) { return std::uint32_t{1} << static_cast<unsign
 constexpr std::uint32_t kSleepEventBits = (std::uint32_t{1} << tumble::v1::WORLD_EVENT_BODY_ASLEEP) |
                                           (std::uint32_t{1} << tumble::v1::WORLD_EVENT_BODY_AWAKE);
 
+// Streams of at most this many bodies are published ahead of larger ones
+// due at the same tick, in a snapshot of their own. The publisher's latency
+// policy: the sim is handed the same line with the interest, so both split
+// in the same place.
+constexpr std::size_t kEarlySnapshotBodies = 64;
+
+bool publishes_early(bool all_bodies, const std::vector<physics::BodyId>& bodies) {
+  return sim::goes_early(all_bodies, bodies.size(), kEarlySnapshotBodies);
+}
+
 }  // namespace
 
 Publisher::Publisher(boost::asio::io_context& io, sim::Simulation& sim, std::chrono::microseconds fanout_slice)
@@ -314,9 +324,9 @@ void Publisher::update_sim_interest() {
   bool sleep_events = false;
   for (const Stream& stream : streams_) {
     sleep_events = sleep_events || (stream.event_kinds & kSleepEventBits) != 0;
-    const bool stream_small = sim::publishes_early(stream.all_bodies, stream.bodies);
+    const bool stream_small = publishes_early(stream.all_bodies, stream.bodies);
     auto it = std::find_if(interest.begin(), interest.end(), [&](const sim::PublishInterest& i) {
-      return i.period_ticks == stream.period_ticks && sim::publishes_early(i.all_bodies, i.bodies) == stream_small;
+      return i.period_ticks == stream.period_ticks && publishes_early(i.all_bodies, i.bodies) == stream_small;
     });
     if (it == interest.end()) {
       interest.push_back({stream.period_ticks, stream.all_bodies, stream.bodies});
@@ -334,7 +344,7 @@ void Publisher::update_sim_interest() {
                    std::back_inserter(both));
     it->bodies = std::move(both);
   }
-  sim_.set_publish_interest(std::move(interest));
+  sim_.set_publish_interest(std::move(interest), kEarlySnapshotBodies);
   sim_.set_sleep_events_wanted(sleep_events);
 }
 

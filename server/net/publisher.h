@@ -12,10 +12,12 @@
 // it at once, whatever its stream's period, paused or not. An out-of-band
 // snapshot (an edit while paused) goes to every stream. The sim copies
 // into a snapshot only the bodies the streams due at its tick read (their
-// periods and filters, update_sim_interest()); a stream due at a snapshot
-// that does not hold its bodies (made before the sim knew of the stream,
-// or after the stream's own snapshot was superseded) asks for one of every
-// body and is served from that.
+// periods and filters, update_sim_interest()), and publishes the bodies
+// of small streams (kEarlySnapshotBodies in publisher.cpp) in a snapshot of
+// their own ahead of the large ones due at the same tick; a stream due at a
+// snapshot that does not hold its bodies (made before the sim knew of the
+// stream, or after the stream's own snapshot was superseded) asks for one
+// of every body and is served from that.
 //
 // Events come over with offer_events(), which queues them all (they are not
 // latest-wins); each is sent as a WorldEvent to the members of the streams

@@ -6,6 +6,8 @@
 // cost a copy of the whole world every tick. When a large one is due beside
 // small ones, the small ones' bodies go first, in a snapshot of their own
 // (Snapshot::more_follows), so their frames do not wait for the large copy.
+// Where small ends is the publisher's to say: it hands the line over with
+// the interests (early_bodies).
 #pragma once
 
 #include <cstddef>
@@ -16,21 +18,18 @@
 
 namespace tumble::sim {
 
-// Interests of at most this many bodies are published in a snapshot of
-// their own ahead of larger ones due at the same tick.
-inline constexpr std::size_t kEarlySnapshotBodies = 64;
-
 struct PublishInterest {
   std::uint32_t period_ticks = 1;       // > 0
   bool all_bodies = true;               // every body, whatever `bodies` holds
   std::vector<physics::BodyId> bodies;  // sorted, unique; read when !all_bodies
 };
 
-// Whether an interest (or a stream) of these bodies is one that goes early.
-// The publisher groups streams by it and the sim splits snapshots by it:
-// both must draw the line in the same place.
-inline bool publishes_early(bool all_bodies, const std::vector<physics::BodyId>& bodies) {
-  return !all_bodies && bodies.size() <= kEarlySnapshotBodies;
+// Whether an interest (or a stream) of `body_count` bodies, or of every body
+// when all_bodies, goes early when the line is drawn at `early_bodies`. The
+// publisher groups its streams by it and the sim splits snapshots by it,
+// with the same early_bodies: both draw the line in the same place.
+inline bool goes_early(bool all_bodies, std::size_t body_count, std::size_t early_bodies) {
+  return !all_bodies && body_count <= early_bodies;
 }
 
 }  // namespace tumble::sim

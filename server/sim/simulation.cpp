@@ -1,62 +1,15 @@
 #include "sim/simulation.h"
 
-#include <pthread.h>
-
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 
 #include "sim/body_spec.h"
-#include "sim/log.h"
+#include "sim/reply.h"
 #include "sim/request_check.h"
 #include "sim/world_state.h"
 
 namespace tumble::sim {
 namespace {
-
-using tumble::v1::ClientMessage;
-using tumble::v1::ServerMessage;
-
-physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
-  out->set_x(v.x());
-  out->set_y(v.y());
-  out->set_z(v.z());
-}
-
-ServerMessage ack(const ClientMessage& message, std::uint64_t applied_tick) {
-  ServerMessage reply;
-  reply.mutable_ack()->set_request_id(message.request_id());
-  reply.mutable_ack()->set_applied_tick(applied_tick);
-  return reply;
-}
-
-ServerMessage error(const ClientMessage& message, tumble::v1::ErrorCode code, std::string text) {
-  ServerMessage reply;
-  auto* e = reply.mutable_error();
-  e->set_request_id(message.request_id());
-  e->set_code(code);
-  e->set_message(std::move(text));
-  return reply;
-}
-
-ServerMessage unknown_body(const ClientMessage& message, const tumble::v1::BodyRef& ref) {
-  return error(message, tumble::v1::UNKNOWN_BODY, "no " + BodyDirectory::describe(ref) + " in the world");
-}
-
-// The body-frame offset from the centre of mass of a point given in
-// `frame`: p_body = R^T (r - x) for a world point.
-physics::Vec3 body_point(const physics::World& world, physics::BodyId body, bool has_point,
-                         const tumble::v1::Vec3& point, tumble::v1::Frame frame) {
-  if (!has_point) return physics::Vec3::Zero();
-  if (frame == tumble::v1::FRAME_BODY) return to_vec3(point);
-  return world.orientation(body).conjugate() * (to_vec3(point) - world.position(body));
-}
-
-bool is_dynamic(const physics::World& world, physics::BodyId id) {
-  return world.motion_type(id) == physics::MotionType::dynamic_body;
-}
 
 double milliseconds(std::chrono::steady_clock::duration d) {
   return std::chrono::duration<double, std::milli>(d).count();
@@ -125,48 +78,25 @@ void Simulation::capture(tumble::v1::WorldState* state) const {
   *state->mutable_scene() = scene_;
 }
 
-void Simulation::set_journal(JournalWriter* journal) { journal_ = journal; }
+void Simulation::set_journal(JournalWriter* journal) { record_.set_journal(journal); }
 
 void Simulation::set_checkpoints(std::chrono::steady_clock::duration interval,
                                  std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink) {
-  checkpoint_interval_ = interval;
-  checkpoint_sink_ = std::move(sink);
-  next_checkpoint_ = Clock::now() + interval;
-}
-
-void Simulation::record(const ClientMessage& message) {
-  if (journal_ == nullptr) return;
-  switch (message.kind_case()) {
-    case ClientMessage::kListBodies:
-    case ClientMessage::kGetStats:
-      return;  // they read the world and change nothing
-    default:
-      break;
-  }
-  journal_->record(next_tick_, message);
-  journal_dirty_ = true;
-}
-
-void Simulation::checkpoint_if_due() {
-  if (!checkpoint_sink_) return;
-  const Clock::time_point now = Clock::now();
-  if (now < next_checkpoint_) return;
-  next_checkpoint_ = now + checkpoint_interval_;
-  // A paused, untouched world is already on disk.
-  if (world_version_ == checkpointed_version_) return;
-  checkpointed_version_ = world_version_;
-  auto state = std::make_shared<tumble::v1::WorldState>();
-  capture(state.get());
-  checkpoint_sink_(std::move(state));
+  record_.set_checkpoints(interval, std::move(sink), [this](tumble::v1::WorldState* state) { capture(state); });
 }
 
 Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
-    : config_(config), scene_(scene), dt_(1.0 / config.tick_rate_hz), tick_rate_hz_(config.tick_rate_hz) {}
+    : config_(config),
+      scene_(scene),
+      dt_(1.0 / config.tick_rate_hz),
+      tick_rate_hz_(config.tick_rate_hz),
+      loop_(config.max_catch_up_ticks) {}
 
 Simulation::~Simulation() { stop(); }
 
 Status Simulation::build_world(physics::World* world, BodyDirectory* directory) const {
-  world->set_gravity(to_vec3(scene_.gravity()));
+  const tumble::v1::Vec3& g = scene_.gravity();
+  world->set_gravity(physics::Vec3(g.x(), g.y(), g.z()));
   for (int i = 0; i < scene_.bodies_size(); ++i) {
     const tumble::v1::BodySpec& spec = scene_.bodies(i);
     const std::string where = "bodies[" + std::to_string(i) + "]";
@@ -204,30 +134,25 @@ void Simulation::set_snapshot_listener(SnapshotListener listener) { listener_ = 
 void Simulation::set_event_listener(WorldEventListener listener) { event_listener_ = std::move(listener); }
 
 void Simulation::start() {
-  if (thread_.joinable()) return;
-  {
-    std::lock_guard lock(run_mutex_);
-    stopping_ = false;
-  }
-  thread_ = std::thread([this] { run_loop(); });
+  loop_.start(
+      // The physics helpers start here so they inherit the sim thread's
+      // scheduling (SCHED_FIFO under --realtime-priority): the step waits for
+      // an island a helper has begun, and a helper behind ordinary processes
+      // would stall it.
+      [this] { world_.set_thread_count(config_.physics_threads); },
+      [this](double late_ms) { run_pass(late_ms); }, [this] { return tick_rate_hz(); });
 }
 
 void Simulation::stop() {
-  {
-    std::lock_guard lock(run_mutex_);
-    stopping_ = true;
-  }
-  run_wakeup_.notify_all();
-  if (thread_.joinable()) thread_.join();
-  if (journal_ != nullptr) journal_->finish(next_tick_);
-  journal_ = nullptr;  // finished: a second stop() (the destructor's) writes nothing
+  loop_.stop();
+  record_.finish(next_tick_);
 }
 
 void Simulation::submit(Command command) {
   if (command.message.kind_case() == ClientMessage::kSpawnBody) {
     auto desc = std::make_shared<physics::BodyDesc>();
     if (Status status = body_desc_from_spec(command.message.spawn_body().body(), "body", desc.get()); !status.ok()) {
-      if (command.reply) command.reply(error(command.message, tumble::v1::INVALID_ARGUMENT, status.message()));
+      if (command.reply) command.reply(error_reply(command.message, tumble::v1::INVALID_ARGUMENT, status.message()));
       return;
     }
     command.body_desc = std::move(desc);
@@ -237,61 +162,19 @@ void Simulation::submit(Command command) {
 
 void Simulation::request_snapshot() { snapshot_requested_.store(true, std::memory_order_relaxed); }
 
-void Simulation::set_publish_interest(std::vector<PublishInterest> interest) {
+void Simulation::set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies) {
   std::lock_guard lock(interest_mutex_);
   published_interest_ = std::move(interest);
+  published_early_bodies_ = early_bodies;
   interest_changed_ = true;
 }
 
 void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.store(wanted, std::memory_order_relaxed); }
 
-void Simulation::run_loop() {
-  // Named for top -H, perf and /proc/PID/task/*/comm (at most 15 characters).
-  pthread_setname_np(pthread_self(), "tumbled-sim");
-  // The physics helpers start here so they inherit this thread's scheduling
-  // (SCHED_FIFO under --realtime-priority): the step waits for an island a
-  // helper has begun, and a helper behind ordinary processes would stall it.
-  world_.set_thread_count(config_.physics_threads);
-  double loop_dt = dt_;
-  auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
-  Clock::time_point start = Clock::now();
-  std::uint64_t ticks_since_start = 0;
-  sim_log().info("stepping at {} Hz", tick_rate_hz());
-
-  std::unique_lock lock(run_mutex_);
-  Clock::time_point due = start;  // when this pass should begin
-  while (!stopping_) {
-    lock.unlock();
-    // Late after a deadline: woken late, or behind (the last pass overran).
-    timing_.record_start_late(std::max(0.0, milliseconds(Clock::now() - due)));
-    run_tick();
-    checkpoint_if_due();
-    ++ticks_since_start;
-    if (dt_ != loop_dt) {
-      // SetTickRate: count deadlines afresh at the new period from the end of this pass.
-      loop_dt = dt_;
-      period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(loop_dt));
-      start = Clock::now();
-      ticks_since_start = 1;
-      sim_log().info("stepping at {} Hz", tick_rate_hz());
-    }
-    // Absolute deadlines: tick n ends at start + n * period, no accumulation of sleep error.
-    const Clock::time_point deadline = start + ticks_since_start * period;
-    const Clock::time_point now = Clock::now();
-    due = deadline;
-    lock.lock();
-    if (now < deadline) {
-      run_wakeup_.wait_until(lock, deadline, [this] { return stopping_; });
-    } else if (now - deadline > config_.max_catch_up_ticks * period) {
-      // Too far behind to catch up: skip the missed ticks and start counting again from now.
-      const auto missed = static_cast<std::uint64_t>((now - deadline) / period);
-      overruns_.fetch_add(missed, std::memory_order_relaxed);
-      sim_log().warn("fell {} ticks behind the clock; skipped them", missed);
-      start = now;
-      ticks_since_start = 0;
-      due = now;
-    }
-  }
+void Simulation::run_pass(double late_ms) {
+  timing_.record_start_late(late_ms);
+  run_tick();
+  record_.checkpoint_if_due();
 }
 
 void Simulation::run_tick() {
@@ -300,15 +183,12 @@ void Simulation::run_tick() {
   double cpu_started = TickTiming::thread_cpu_ms();
   commands_.drain(draining_);
   for (Command& command : draining_) {
-    record(command.message);
+    record_.record(next_tick_, command.message);
     apply(command);
   }
-  if (!draining_.empty()) ++world_version_;
+  if (!draining_.empty()) record_.note_change();
   draining_.clear();
-  if (journal_dirty_) {
-    journal_->flush();
-    journal_dirty_ = false;
-  }
+  record_.flush();
 
   if (!paused_) {
     advance();
@@ -329,7 +209,7 @@ void Simulation::run_tick() {
     } while (paused_ && steps_left_ > 0 && started < budget_end && !replaying_);
   } else {
     // No step: show edits at once, and serve a new subscriber's first frame.
-    if (edited_ && tracking_sleep_) track_sleep(next_tick_);
+    if (edited_ && sleep_.watching()) sleep_.scan(world_, directory_, next_tick_, &events_);
     flush_events();
     const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
     if (edited_ || requested) publish(nullptr, edited_);
@@ -339,61 +219,38 @@ void Simulation::run_tick() {
 }
 
 void Simulation::advance() {
-  ++world_version_;
+  record_.note_change();
   loads_.apply(world_);
   world_.step(dt_);
   ++next_tick_;
   tick_.store(next_tick_, std::memory_order_relaxed);
   sim_time_.store(time_of(next_tick_), std::memory_order_relaxed);
 
-  const bool wanted = sleep_events_wanted_.load(std::memory_order_relaxed);
-  if (wanted && !tracking_sleep_) {
-    start_tracking_sleep();  // only changes from now on are events
-  } else if (wanted) {
-    track_sleep(next_tick_);
+  if (!sleep_events_wanted_.load(std::memory_order_relaxed)) {
+    sleep_.stop();
+  } else if (!sleep_.watching()) {
+    sleep_.start(world_);  // only changes from now on are events
+  } else {
+    sleep_.scan(world_, directory_, next_tick_, &events_);
   }
-  tracking_sleep_ = wanted;
 
   if (steps_left_ > 0 && --steps_left_ == 0) {
-    if (step_command_.reply) step_command_.reply(ack(step_command_.message, next_tick_));
+    if (step_command_.reply) step_command_.reply(ack_reply(step_command_.message, next_tick_));
     step_command_ = Command{};
   }
   flush_events();
-  const Due due = publish_due();
-  if (due == Due::nothing) {
+  const PublishPlan::Due due = plan_publish();
+  if (due == PublishPlan::Due::nothing) {
     edited_ = false;
     return;
   }
-  // With a large snapshot due, the small streams' bodies (early_) go
+  // With a large snapshot due, the small streams' bodies (plan_.early()) go
   // first, in a snapshot of their own, or the copy of the large one would
   // hold their frames back (about a millisecond for 10,000 bodies on this
   // kind of machine, on every tick of a 60 Hz stream of all of them).
-  if (!early_.empty()) publish(&early_, false, true);
-  publish(due == Due::every_body ? nullptr : &collect_wanted(), false);
+  if (!plan_.early().empty()) publish(&plan_.early(), false, true);
+  publish(due == PublishPlan::Due::every_body ? nullptr : &plan_.collect_wanted(), false);
   edited_ = false;
-}
-
-void Simulation::track_sleep(std::uint64_t tick) {
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    if (!is_dynamic(world_, id)) continue;
-    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
-    const std::uint8_t awake = world_.is_awake(id) ? 1 : 0;
-    if (awake == awake_[id]) continue;
-    awake_[id] = awake;
-    events_.push_back({tick, awake ? WorldEventKind::body_awake : WorldEventKind::body_asleep, id,
-                       directory_.name_of(id)});
-  }
-}
-
-void Simulation::start_tracking_sleep() {
-  tracking_sleep_ = true;
-  awake_.clear();
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
-    awake_[id] = world_.is_awake(id) ? 1 : 0;
-  }
 }
 
 void Simulation::flush_events() {
@@ -402,70 +259,16 @@ void Simulation::flush_events() {
   events_.clear();
 }
 
-namespace {
-
-// Adds the sorted, unique `ids` to the sorted, unique `into`: a merge, not
-// a sort (the filters are sorted already; sorting the 10,001 ids due on a
-// fan-out tick was a fifth of the sim thread's samples under perf, on
-// bench/README's (c)). `scratch` keeps its capacity.
-void merge_into(std::vector<physics::BodyId>& into, const std::vector<physics::BodyId>& ids,
-                std::vector<physics::BodyId>& scratch) {
-  if (into.empty()) {
-    into.assign(ids.begin(), ids.end());
-    return;
-  }
-  scratch.clear();
-  std::set_union(into.begin(), into.end(), ids.begin(), ids.end(), std::back_inserter(scratch));
-  into.swap(scratch);
-}
-
-// Whether a snapshot of `wanted` bodies by id is taken as a copy of every
-// body instead: most of the world costs less in one pass over the dense
-// arrays than a lookup a body, and covers the same. A set small enough to
-// go early never is (a tiny world keeps its filter).
-bool copies_every_body(std::size_t wanted, std::size_t world) {
-  return wanted > kEarlySnapshotBodies && 2 * wanted >= world;
-}
-
-}  // namespace
-
-Simulation::Due Simulation::publish_due() {
+PublishPlan::Due Simulation::plan_publish() {
   {
     std::lock_guard lock(interest_mutex_);
     if (interest_changed_) {
-      interest_ = std::move(published_interest_);
+      plan_.set_interests(std::move(published_interest_), published_early_bodies_);
       interest_changed_ = false;
     }
   }
-  bool every_body = snapshot_requested_.exchange(false, std::memory_order_relaxed);
-  due_.clear();
-  early_.clear();
-  bool large = false;
-  for (std::size_t i = 0; i < interest_.size(); ++i) {
-    const PublishInterest& interest = interest_[i];
-    if (interest.period_ticks == 0 || next_tick_ % interest.period_ticks != 0) continue;
-    if (interest.all_bodies) {
-      every_body = true;
-      continue;
-    }
-    due_.push_back(i);
-    if (publishes_early(interest.all_bodies, interest.bodies)) {
-      merge_into(early_, interest.bodies, merge_scratch_);
-    } else {
-      large = true;
-      // The union holds at least these: most of the world on its own.
-      if (copies_every_body(interest.bodies.size(), world_.body_count())) every_body = true;
-    }
-  }
-  if (!large && !every_body) early_.clear();  // nothing large to go before: early_ stays empty
-  if (every_body) return Due::every_body;
-  return due_.empty() ? Due::nothing : Due::wanted_bodies;
-}
-
-const std::vector<physics::BodyId>& Simulation::collect_wanted() {
-  wanted_.clear();
-  for (const std::size_t i : due_) merge_into(wanted_, interest_[i].bodies, merge_scratch_);
-  return wanted_;
+  const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
+  return plan_.plan(next_tick_, world_.body_count(), requested);
 }
 
 void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows) {
@@ -475,7 +278,7 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   snapshot->sim_time = time_of(next_tick_);
   snapshot->out_of_band = out_of_band;
   snapshot->more_follows = more_follows;
-  const bool every_body = bodies == nullptr || copies_every_body(bodies->size(), world_.body_count());
+  const bool every_body = bodies == nullptr || plan_.copies_every_body(bodies->size(), world_.body_count());
   snapshot->all_bodies = every_body;
   std::size_t n = world_.body_count();
   if (!every_body) {
@@ -513,294 +316,6 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
     o[3] = q.z();
   }
   listener_(std::move(snapshot));
-}
-
-void Simulation::apply(Command& command) {
-  const ClientMessage& message = command.message;
-  std::optional<ServerMessage> reply;
-  switch (message.kind_case()) {
-    case ClientMessage::kApplyForce: reply = apply_force(message); break;
-    case ClientMessage::kApplyTorque: reply = apply_torque(message); break;
-    case ClientMessage::kApplyImpulse: reply = apply_impulse(message); break;
-    case ClientMessage::kListBodies: reply = list_bodies(message); break;
-    case ClientMessage::kSpawnBody: reply = spawn_body(command); break;
-    case ClientMessage::kRemoveBody: reply = remove_body(message); break;
-    case ClientMessage::kSetBodyState: reply = set_body_state(message); break;
-    case ClientMessage::kClearForces: reply = clear_forces(message); break;
-    case ClientMessage::kPause: reply = pause(message); break;
-    case ClientMessage::kResume: reply = resume(message); break;
-    case ClientMessage::kStep: reply = step(command); break;
-    case ClientMessage::kReset: reply = reset(message); break;
-    case ClientMessage::kSetTickRate: reply = set_tick_rate(message); break;
-    case ClientMessage::kGetStats: reply = stats(message); break;
-    default:
-      reply = error(message, tumble::v1::UNKNOWN_MESSAGE, "the simulation does not handle this request");
-      break;
-  }
-  if (reply && command.reply) command.reply(std::move(*reply));
-}
-
-std::uint32_t Simulation::duration_ticks(bool has_seconds, double seconds, bool has_ticks,
-                                         std::uint32_t ticks) const {
-  // The longest timed load: one tick more would read as persistent.
-  constexpr std::uint32_t kLongest = BodyLoad::kPersistent - 1;
-  if (has_ticks) return std::min(ticks, kLongest);
-  if (!has_seconds) return 1;
-  // check_request bounds seconds to (0, 1e6] and the rate to 1e4 Hz: up to
-  // 1e10 ticks, more than 32 bits hold, so the count is capped before the
-  // conversion (reached only above about 4295 Hz).
-  return static_cast<std::uint32_t>(std::clamp(std::round(seconds * tick_rate_hz()), 1.0, double{kLongest}));
-}
-
-ServerMessage Simulation::apply_force(const ClientMessage& message) {
-  const auto& m = message.apply_force();
-  const physics::BodyId body = directory_.resolve(m.body());
-  if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
-                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
-  loads_.add_force(body, to_vec3(m.force()), body_point(world_, body, m.has_point(), m.point(), m.point_frame()),
-                   ticks);
-  return ack(message, next_tick_ + 1);
-}
-
-ServerMessage Simulation::apply_torque(const ClientMessage& message) {
-  const auto& m = message.apply_torque();
-  const physics::BodyId body = directory_.resolve(m.body());
-  if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
-                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
-  loads_.add_torque(body, to_vec3(m.torque()), ticks);
-  return ack(message, next_tick_ + 1);
-}
-
-ServerMessage Simulation::apply_impulse(const ClientMessage& message) {
-  const auto& m = message.apply_impulse();
-  const physics::BodyId body = directory_.resolve(m.body());
-  if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  // World point r = x + R p_body (or as given), then P += J, L += (r - x) x J.
-  const physics::Vec3 local = body_point(world_, body, m.has_point(), m.point(), m.point_frame());
-  const physics::Vec3 point = world_.position(body) + world_.orientation(body) * local;
-  world_.apply_impulse_at_point(body, to_vec3(m.impulse()), point);
-  edited_ = true;
-  return ack(message, edit_tick());
-}
-
-ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
-  ServerMessage reply;
-  auto* list = reply.mutable_body_list();
-  list->set_request_id(message.request_id());
-  list->set_tick(next_tick_);
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    auto* info = list->add_bodies();
-    info->set_id(id);
-    if (const BodyEntry* entry = directory_.find(id)) {
-      info->set_name(entry->name);
-      *info->mutable_shape() = entry->shape;
-    }
-    info->set_mass(world_.mass(id));
-    set_vec3(world_.position(id), info->mutable_position());
-    const physics::Quat& q = world_.orientation(id);
-    auto* o = info->mutable_orientation();
-    o->set_w(q.w());
-    o->set_x(q.x());
-    o->set_y(q.y());
-    o->set_z(q.z());
-    set_vec3(world_.linear_velocity(id), info->mutable_linear_velocity());
-    set_vec3(world_.angular_velocity(id), info->mutable_angular_velocity());
-    info->set_motion(wire_motion(world_.motion_type(id)));
-    info->set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
-  }
-  return reply;
-}
-
-void Simulation::note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick) {
-  events_.push_back({tick, WorldEventKind::body_spawned, id, name});
-  if (tracking_sleep_ && is_dynamic(world_, id)) {
-    if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
-    awake_[id] = world_.is_awake(id) ? 1 : 0;
-  }
-}
-
-ServerMessage Simulation::spawn_body(const Command& command) {
-  const ClientMessage& message = command.message;
-  const tumble::v1::BodySpec& spec = message.spawn_body().body();
-  if (world_.body_count() >= config_.max_bodies) {
-    return error(message, tumble::v1::RESOURCE_EXHAUSTED,
-                 "the world already holds " + std::to_string(world_.body_count()) + " bodies, the most allowed");
-  }
-  if (world_.next_body_id() >= kMaxBodyIds) {
-    return error(message, tumble::v1::RESOURCE_EXHAUSTED,
-                 "the world has handed out all of the " + std::to_string(kMaxBodyIds) + " body ids it may");
-  }
-  if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
-    return error(message, tumble::v1::INVALID_ARGUMENT, "body.name: '" + spec.name() + "' is used by another body");
-  }
-  physics::BodyDesc converted;
-  const physics::BodyDesc* desc = command.body_desc.get();
-  if (desc == nullptr) {
-    // Queued without submit() (a replay): convert here.
-    if (Status status = body_desc_from_spec(spec, "body", &converted); !status.ok()) {
-      return error(message, tumble::v1::INVALID_ARGUMENT, status.message());
-    }
-    desc = &converted;
-  }
-  const physics::BodyId id = world_.add_body(*desc);
-  {
-    std::lock_guard lock(directory_mutex_);
-    directory_.add(id, BodyEntry{spec.name(), spec.shape(), world_.mass(id)});
-  }
-  refresh_body_count();
-  const std::uint64_t tick = edit_tick();
-  note_spawned(id, spec.name(), tick);
-  edited_ = true;
-  ServerMessage reply = ack(message, tick);
-  reply.mutable_ack()->set_body_id(id);
-  return reply;
-}
-
-ServerMessage Simulation::remove_body(const ClientMessage& message) {
-  const auto& ref = message.remove_body().body();
-  const physics::BodyId id = directory_.resolve(ref);
-  if (id == physics::kInvalidBodyId) return unknown_body(message, ref);
-  const std::string name = directory_.name_of(id);
-  world_.remove_body(id);
-  loads_.remove_body(id);
-  {
-    std::lock_guard lock(directory_mutex_);
-    directory_.remove(id);
-  }
-  refresh_body_count();
-  const std::uint64_t tick = edit_tick();
-  events_.push_back({tick, WorldEventKind::body_removed, id, name});
-  edited_ = true;
-  return ack(message, tick);
-}
-
-ServerMessage Simulation::set_body_state(const ClientMessage& message) {
-  const auto& m = message.set_body_state();
-  const physics::BodyId id = directory_.resolve(m.body());
-  if (id == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  const physics::Vec3 position = m.has_position() ? to_vec3(m.position()) : world_.position(id);
-  physics::Quat orientation = world_.orientation(id);
-  if (m.has_orientation()) {
-    const auto& q = m.orientation();
-    orientation = physics::Quat(q.w(), q.x(), q.y(), q.z()).normalized();
-  }
-  // Velocities not given keep their world-frame values, also when the orientation changes.
-  const physics::Vec3 v = m.has_linear_velocity() ? to_vec3(m.linear_velocity()) : world_.linear_velocity(id);
-  const physics::Vec3 w = m.has_angular_velocity() ? to_vec3(m.angular_velocity()) : world_.angular_velocity(id);
-  world_.set_state(id, position, orientation, v, w);
-  edited_ = true;
-  return ack(message, edit_tick());
-}
-
-ServerMessage Simulation::clear_forces(const ClientMessage& message) {
-  const auto& m = message.clear_forces();
-  if (m.has_body()) {
-    const physics::BodyId id = directory_.resolve(m.body());
-    if (id == physics::kInvalidBodyId) return unknown_body(message, m.body());
-    loads_.remove_body(id);
-  } else {
-    loads_.clear();
-  }
-  // The next step is the first without them.
-  return ack(message, next_tick_ + 1);
-}
-
-ServerMessage Simulation::pause(const ClientMessage& message) {
-  if (!paused_) sim_log().info("paused at tick {}", next_tick_);
-  paused_ = true;
-  paused_flag_.store(true, std::memory_order_relaxed);
-  return ack(message, next_tick_);
-}
-
-ServerMessage Simulation::resume(const ClientMessage& message) {
-  if (paused_) sim_log().info("resumed at tick {}", next_tick_);
-  paused_ = false;
-  paused_flag_.store(false, std::memory_order_relaxed);
-  return ack(message, next_tick_ + 1);
-}
-
-std::optional<ServerMessage> Simulation::step(Command& command) {
-  const ClientMessage& message = command.message;
-  if (!paused_) {
-    return error(message, tumble::v1::FAILED_PRECONDITION, "the simulation is running; Pause it before stepping");
-  }
-  if (steps_left_ > 0) {
-    return error(message, tumble::v1::FAILED_PRECONDITION,
-                 "a Step is under way with " + std::to_string(steps_left_) + " ticks left");
-  }
-  steps_left_ = message.step().ticks();
-  step_command_ = std::move(command);
-  return std::nullopt;
-}
-
-ServerMessage Simulation::reset(const ClientMessage& message) {
-  physics::World fresh;
-  fresh.set_settings(world_.settings());
-  fresh.set_thread_count(world_.thread_count());
-  BodyDirectory directory;
-  // The scene built once in create(), so it builds again.
-  if (Status status = build_world(&fresh, &directory); !status.ok()) {
-    return error(message, tumble::v1::INTERNAL, "the scene no longer builds: " + status.message());
-  }
-  // The scene's bodies get their first ids again; ids handed out since are never reused.
-  fresh.set_next_body_id(world_.next_body_id());
-  const std::uint64_t tick = edit_tick();
-  events_.push_back({tick, WorldEventKind::world_reset, physics::kInvalidBodyId, {}});
-  // Ids below the scene's body count are the scene's bodies in both worlds
-  // (ids are handed out in order and never reused).
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    if (!fresh.contains(id)) events_.push_back({tick, WorldEventKind::body_removed, id, directory_.name_of(id)});
-  }
-  std::vector<physics::BodyId> restored;
-  for (std::size_t i = 0; i < fresh.body_count(); ++i) {
-    const physics::BodyId id = fresh.body_id_at(i);
-    if (!world_.contains(id)) restored.push_back(id);
-  }
-  world_ = std::move(fresh);
-  set_directory(std::move(directory));
-  loads_.clear();
-  refresh_body_count();
-  if (tracking_sleep_) start_tracking_sleep();  // the fresh world's states, without events
-  for (physics::BodyId id : restored) note_spawned(id, directory_.name_of(id), tick);
-  edited_ = true;
-  sim_log().info("reset to the scene at tick {}", next_tick_);
-  return ack(message, tick);
-}
-
-ServerMessage Simulation::set_tick_rate(const ClientMessage& message) {
-  const double rate = message.set_tick_rate().rate_hz();
-  // Sim time so far stays; ticks from here on last 1 / rate.
-  rate_since_time_ = time_of(next_tick_);
-  rate_since_tick_ = next_tick_;
-  dt_ = 1.0 / rate;
-  tick_rate_hz_.store(rate, std::memory_order_relaxed);
-  return ack(message, next_tick_ + 1);
-}
-
-ServerMessage Simulation::stats(const ClientMessage& message) const {
-  ServerMessage reply;
-  auto& stats = *reply.mutable_stats();
-  stats.set_request_id(message.request_id());
-  stats.set_tick(next_tick_);
-  stats.set_sim_time(time_of(next_tick_));
-  stats.set_paused(paused_);
-  stats.set_tick_rate_hz(tick_rate_hz());
-  stats.set_real_time_factor(paused_ ? 0.0 : timing_.real_time_factor());
-  stats.set_tick_ms_p50(timing_.step_ms_quantile(0.5));
-  stats.set_tick_ms_p99(timing_.step_ms_quantile(0.99));
-  stats.set_tick_cpu_ms_p50(timing_.step_cpu_ms_quantile(0.5));
-  stats.set_tick_cpu_ms_p99(timing_.step_cpu_ms_quantile(0.99));
-  stats.set_tick_start_late_ms_p50(timing_.start_late_ms_quantile(0.5));
-  stats.set_tick_start_late_ms_p99(timing_.start_late_ms_quantile(0.99));
-  stats.set_overruns(overruns());
-  stats.set_bodies(static_cast<std::uint32_t>(world_.body_count()));
-  stats.set_bodies_awake(static_cast<std::uint32_t>(world_.awake_body_count()));
-  stats.set_bodies_asleep(static_cast<std::uint32_t>(world_.sleeping_body_count()));
-  return reply;
 }
 
 }  // namespace tumble::sim

@@ -4,12 +4,13 @@
 //
 // Tick n ends at the absolute deadline t0 + n * dt on the steady clock, so
 // the rate does not drift. At each tick the sim thread drains the command
-// queue and applies the commands, steps the world once, and, when a
-// subscription is due, publishes a Snapshot of the bodies the due
-// subscriptions read (sim/publish_interest.h). A tick that finishes late is
-// followed at once by the next; a sim that falls more than
+// queue and applies the commands (sim/command_handlers.cpp), steps the
+// world once, and, when a subscription is due, publishes a Snapshot of the
+// bodies the due subscriptions read (sim/publish_plan.h). A tick that
+// finishes late is followed at once by the next; a sim that falls more than
 // max_catch_up_ticks behind skips the missed ticks and counts them as
-// overruns. The sim thread never waits on anything but its clock.
+// overruns (sim/tick_loop.h). The sim thread never waits on anything but
+// its clock. The journal and checkpoints: sim/run_record.h.
 //
 // Paused, the loop keeps its cadence and keeps applying commands, but does
 // not step: the tick stays put. A Step request then runs its ticks back to
@@ -28,14 +29,13 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "physics/world.h"
@@ -44,8 +44,12 @@
 #include "sim/command.h"
 #include "sim/journal.h"
 #include "sim/publish_interest.h"
+#include "sim/publish_plan.h"
+#include "sim/run_record.h"
+#include "sim/sleep_watch.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
+#include "sim/tick_loop.h"
 #include "sim/tick_timing.h"
 #include "sim/world_event.h"
 #include "tumble/v1/scene.pb.h"
@@ -58,7 +62,7 @@ struct SimConfig {
   std::uint32_t max_catch_up_ticks = 8;  // late ticks run back to back before the rest are skipped
   std::uint32_t max_bodies = 100000;     // SpawnBody beyond it is RESOURCE_EXHAUSTED
   // Threads that solve the world's contact islands, the sim thread included
-  // (physics::World::set_thread_count); the helpers start with run_loop().
+  // (physics::World::set_thread_count); the helpers start with the sim thread.
   int physics_threads = 1;
 };
 
@@ -130,9 +134,11 @@ class Simulation {
   // What the active subscriptions read: a snapshot is published after
   // every tick that one of the periods divides, holding the bodies of the
   // interests due at that tick (every body when one of them asks for all).
-  // Replaces the previous interest; empty: nothing is published but what
-  // request_snapshot() and edits while paused ask for.
-  void set_publish_interest(std::vector<PublishInterest> interest);
+  // Interests of at most early_bodies bodies go early (sim/publish_plan.h);
+  // the publisher draws that line. Replaces the previous interest; empty:
+  // nothing is published but what request_snapshot() and edits while
+  // paused ask for.
+  void set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies);
 
   // Whether to watch for bodies falling asleep and waking (a scan of the
   // bodies after every step), because a subscriber asked for those events.
@@ -150,7 +156,7 @@ class Simulation {
   std::uint32_t body_count() const { return body_count_.load(std::memory_order_relaxed); }
   bool paused() const { return paused_flag_.load(std::memory_order_relaxed); }
   // Ticks skipped because the sim fell too far behind its clock.
-  std::uint64_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
+  std::uint64_t overruns() const { return loop_.overruns(); }
 
   // The world and its loads, for tests that run the sim with run_tick();
   // not while started.
@@ -167,41 +173,32 @@ class Simulation {
   // Fills an empty world and directory with the bodies of scene_.
   Status build_world(physics::World* world, BodyDirectory* directory) const;
 
-  void run_loop();
+  // One pass of the clock loop on the sim thread.
+  void run_pass(double late_ms);
   // One step: loads, World::step, the tick, sleep changes, a Step's
   // countdown, events and the snapshot if due.
   void advance();
-  void apply(Command& command);
   // Publishes a snapshot of `bodies` (sorted), or of every body when null
   // or when they are most of the world; more_follows: a larger snapshot of
   // this tick comes next.
   void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
-  // Whether a snapshot is due after this tick: of every body when one was
-  // requested, a due interest wants all or alone names most of the world,
-  // else of the due interests' bodies (collect_wanted). early_ then holds
-  // the bodies of the due interests of at most kEarlySnapshotBodies bodies
-  // when there are larger ones beside them: they are published before the
-  // large set is even gathered.
-  enum class Due { nothing, wanted_bodies, every_body };
-  Due publish_due();
-  // The union of the due interests' bodies, sorted, in wanted_.
-  const std::vector<physics::BodyId>& collect_wanted();
+  // Takes up the latest interest and a requested snapshot, and plans the
+  // snapshots of this tick in plan_.
+  PublishPlan::Due plan_publish();
 
   void flush_events();
-  // Reports, as events of `tick`, the dynamic bodies whose sleep changed
-  // since the last scan.
-  void track_sleep(std::uint64_t tick);
-  // Records every body's sleep as it is now, without events.
-  void start_tracking_sleep();
-  void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
   void set_directory(BodyDirectory directory);
   void refresh_body_count();
   double time_of(std::uint64_t tick) const;
+
+  // The command handlers (sim/command_handlers.cpp). apply() executes one
+  // command on the sim thread and hands its reply to command.reply.
+  void apply(Command& command);
+  void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
   // The tick whose state first shows an edit applied now: the next step's,
   // or the current one while paused.
   std::uint64_t edit_tick() const { return paused_ ? next_tick_ : next_tick_ + 1; }
   std::uint32_t duration_ticks(bool has_seconds, double seconds, bool has_ticks, std::uint32_t ticks) const;
-
   ServerMessage apply_force(const ClientMessage& message);
   ServerMessage apply_torque(const ClientMessage& message);
   ServerMessage apply_impulse(const ClientMessage& message);
@@ -217,9 +214,6 @@ class Simulation {
   ServerMessage reset(const ClientMessage& message);
   ServerMessage set_tick_rate(const ClientMessage& message);
   ServerMessage stats(const ClientMessage& message) const;
-  // Journal (set_journal) and checkpoints (set_checkpoints).
-  void record(const ClientMessage& message);
-  void checkpoint_if_due();
 
   const SimConfig config_;
   const tumble::v1::Scene scene_;  // the world Reset goes back to
@@ -229,11 +223,7 @@ class Simulation {
   BodyLoads loads_;
   BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
   std::vector<Command> draining_;
-  std::vector<PublishInterest> interest_;  // the sim thread's copy of published_interest_
-  std::vector<std::size_t> due_;            // indices in interest_ of the interests due at this tick
-  std::vector<physics::BodyId> wanted_;     // their bodies, sorted (collect_wanted)
-  std::vector<physics::BodyId> merge_scratch_;
-  std::vector<physics::BodyId> early_;      // those of the small ones, when larger ones are due too
+  PublishPlan plan_;                    // holds the sim thread's copy of published_interest_
   std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
   double dt_;                           // s, 1 / tick rate
   std::uint64_t rate_since_tick_ = 0;   // the tick at which dt_ took effect
@@ -242,18 +232,11 @@ class Simulation {
   std::uint32_t steps_left_ = 0;        // ticks of the Step under way
   Command step_command_;                // the Step under way, answered when steps_left_ reaches 0
   bool edited_ = false;                 // the world was edited since the last snapshot
-  bool tracking_sleep_ = false;         // awake_ is kept up to date
-  std::vector<std::uint8_t> awake_;     // by body id, while tracking_sleep_: 1 when awake at the last scan
+  SleepWatch sleep_;                    // watching while sleep_events_wanted_
   WorldEvents events_;                  // of the tick being made
   TickTiming timing_;
   bool replaying_ = false;
-  JournalWriter* journal_ = nullptr;
-  bool journal_dirty_ = false;          // recorded since the last flush
-  std::chrono::steady_clock::duration checkpoint_interval_{};
-  std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> checkpoint_sink_;
-  std::chrono::steady_clock::time_point next_checkpoint_{};
-  std::uint64_t checkpointed_version_ = 0;  // world_version_ at the last checkpoint
-  std::uint64_t world_version_ = 1;         // grows with every step and every executed command
+  RunRecord record_;                    // the journal and the checkpoints
   SnapshotListener listener_;
   WorldEventListener event_listener_;
 
@@ -261,6 +244,7 @@ class Simulation {
   CommandQueue commands_;
   std::mutex interest_mutex_;
   std::vector<PublishInterest> published_interest_;  // guarded by interest_mutex_
+  std::size_t published_early_bodies_ = 0;           // guarded by interest_mutex_
   bool interest_changed_ = false;                    // guarded by interest_mutex_
   std::atomic<bool> snapshot_requested_{false};
   std::atomic<bool> sleep_events_wanted_{false};
@@ -269,13 +253,9 @@ class Simulation {
   std::atomic<double> sim_time_{0};
   std::atomic<std::uint32_t> body_count_{0};
   std::atomic<bool> paused_flag_{false};
-  std::atomic<std::uint64_t> overruns_{0};
   mutable std::mutex directory_mutex_;  // guards directory_ against readers on other threads
 
-  std::mutex run_mutex_;
-  std::condition_variable run_wakeup_;
-  bool stopping_ = false;
-  std::thread thread_;
+  TickLoop loop_;  // the sim thread; last, so that it stops before the state it runs on goes
 };
 
 }  // namespace tumble::sim

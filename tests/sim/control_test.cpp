@@ -20,6 +20,10 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
+// Where the publisher draws the line between small interests, which go
+// early, and large ones (net/publisher.cpp).
+constexpr std::size_t kEarlyBodies = 64;
+
 constexpr double kRate = 240;
 constexpr double kDt = 1.0 / kRate;
 
@@ -622,7 +626,7 @@ TEST_F(ControlTest, StatsReportTheClockTheBodiesAndTheStepTimes) {
 TEST_F(ControlTest, AnEditWhilePausedIsPublishedAtOnceOutOfBand) {
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
   driver_.sim().set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
-  driver_.sim().set_publish_interest({PublishInterest{}});  // every body, every tick
+  driver_.sim().set_publish_interest({PublishInterest{}}, kEarlyBodies);  // every body, every tick
   driver_.request(pause_message());
   snapshots.clear();
   driver_.run(10);

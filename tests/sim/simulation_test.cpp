@@ -18,6 +18,10 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
+// Where the publisher draws the line between small interests, which go
+// early, and large ones (net/publisher.cpp).
+constexpr std::size_t kEarlyBodies = 64;
+
 constexpr double kRate = 240;
 constexpr double kDt = 1.0 / kRate;
 
@@ -197,7 +201,7 @@ TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
   sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { ticks.push_back(s->tick); });
   for (int i = 0; i < 5; ++i) sim_->run_tick();
   EXPECT_TRUE(ticks.empty()) << "nobody subscribed";
-  sim_->set_publish_interest({PublishInterest{4, true, {}}, PublishInterest{6, false, {ball_}}});
+  sim_->set_publish_interest({PublishInterest{4, true, {}}, PublishInterest{6, false, {ball_}}}, kEarlyBodies);
   for (int i = 0; i < 7; ++i) sim_->run_tick();  // ticks 6..12
   // At 12 both are due: the ball on its own first, then every body.
   EXPECT_EQ(ticks, (std::vector<std::uint64_t>{6, 8, 12, 12}));
@@ -215,7 +219,7 @@ TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
   const physics::BodyId gone = ball_ + 100;
   ASSERT_LT(crate_, ball_);
   sim_->set_publish_interest({PublishInterest{1, false, {ball_, gone}}, PublishInterest{2, false, {crate_}},
-                              PublishInterest{3, true, {}}});
+                              PublishInterest{3, true, {}}}, kEarlyBodies);
   for (int i = 0; i < 6; ++i) sim_->run_tick();  // ticks 1..6
   // Ticks 3 and 6 publish the filtered bodies first, then every body.
   ASSERT_EQ(snapshots.size(), 8u);
@@ -287,7 +291,7 @@ TEST(SimulationSnapshots, SmallStreamsGoFirstAndMostOfTheWorldIsCopiedWhole) {
   std::vector<physics::BodyId> most;
   for (physics::BodyId id = 10; id < 160; ++id) most.push_back(id);
   const physics::BodyId probe = 3;
-  sim->set_publish_interest({PublishInterest{1, false, {probe}}, PublishInterest{4, false, most}});
+  sim->set_publish_interest({PublishInterest{1, false, {probe}}, PublishInterest{4, false, most}}, kEarlyBodies);
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
   sim->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   for (int i = 0; i < 8; ++i) sim->run_tick();  // ticks 1..8
@@ -324,7 +328,8 @@ TEST(SimulationSnapshots, LargeStreamsDueTogetherGetTheUnionOfTheirBodies) {
   for (physics::BodyId id = 100; id < 220; ++id) run.push_back(id);
   const physics::BodyId probe = 399;
   sim->set_publish_interest(
-      {PublishInterest{3, false, run}, PublishInterest{1, false, {probe}}, PublishInterest{2, false, evens}});
+      {PublishInterest{3, false, run}, PublishInterest{1, false, {probe}}, PublishInterest{2, false, evens}},
+      kEarlyBodies);
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
   sim->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   for (int i = 0; i < 6; ++i) sim->run_tick();  // ticks 1..6

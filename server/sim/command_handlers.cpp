@@ -1,0 +1,335 @@
+// The requests the sim thread executes: Simulation::apply() and one
+// handler a request kind. Each edits the world, its loads and directory, or
+// the clock, and answers with the tick at which the change first shows.
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/body_spec.h"
+#include "sim/log.h"
+#include "sim/reply.h"
+#include "sim/simulation.h"
+#include "sim/world_state.h"
+
+namespace tumble::sim {
+namespace {
+
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
+  out->set_x(v.x());
+  out->set_y(v.y());
+  out->set_z(v.z());
+}
+
+ServerMessage unknown_body(const ClientMessage& message, const tumble::v1::BodyRef& ref) {
+  return error_reply(message, tumble::v1::UNKNOWN_BODY, "no " + BodyDirectory::describe(ref) + " in the world");
+}
+
+// The body-frame offset from the centre of mass of a point given in
+// `frame`: p_body = R^T (r - x) for a world point.
+physics::Vec3 body_point(const physics::World& world, physics::BodyId body, bool has_point,
+                         const tumble::v1::Vec3& point, tumble::v1::Frame frame) {
+  if (!has_point) return physics::Vec3::Zero();
+  if (frame == tumble::v1::FRAME_BODY) return to_vec3(point);
+  return world.orientation(body).conjugate() * (to_vec3(point) - world.position(body));
+}
+
+bool is_dynamic(const physics::World& world, physics::BodyId id) {
+  return world.motion_type(id) == physics::MotionType::dynamic_body;
+}
+
+}  // namespace
+
+void Simulation::apply(Command& command) {
+  const ClientMessage& message = command.message;
+  std::optional<ServerMessage> reply;
+  switch (message.kind_case()) {
+    case ClientMessage::kApplyForce: reply = apply_force(message); break;
+    case ClientMessage::kApplyTorque: reply = apply_torque(message); break;
+    case ClientMessage::kApplyImpulse: reply = apply_impulse(message); break;
+    case ClientMessage::kListBodies: reply = list_bodies(message); break;
+    case ClientMessage::kSpawnBody: reply = spawn_body(command); break;
+    case ClientMessage::kRemoveBody: reply = remove_body(message); break;
+    case ClientMessage::kSetBodyState: reply = set_body_state(message); break;
+    case ClientMessage::kClearForces: reply = clear_forces(message); break;
+    case ClientMessage::kPause: reply = pause(message); break;
+    case ClientMessage::kResume: reply = resume(message); break;
+    case ClientMessage::kStep: reply = step(command); break;
+    case ClientMessage::kReset: reply = reset(message); break;
+    case ClientMessage::kSetTickRate: reply = set_tick_rate(message); break;
+    case ClientMessage::kGetStats: reply = stats(message); break;
+    default:
+      reply = error_reply(message, tumble::v1::UNKNOWN_MESSAGE, "the simulation does not handle this request");
+      break;
+  }
+  if (reply && command.reply) command.reply(std::move(*reply));
+}
+
+std::uint32_t Simulation::duration_ticks(bool has_seconds, double seconds, bool has_ticks,
+                                         std::uint32_t ticks) const {
+  // The longest timed load: one tick more would read as persistent.
+  constexpr std::uint32_t kLongest = BodyLoad::kPersistent - 1;
+  if (has_ticks) return std::min(ticks, kLongest);
+  if (!has_seconds) return 1;
+  // check_request bounds seconds to (0, 1e6] and the rate to 1e4 Hz: up to
+  // 1e10 ticks, more than 32 bits hold, so the count is capped before the
+  // conversion (reached only above about 4295 Hz).
+  return static_cast<std::uint32_t>(std::clamp(std::round(seconds * tick_rate_hz()), 1.0, double{kLongest}));
+}
+
+ServerMessage Simulation::apply_force(const ClientMessage& message) {
+  const auto& m = message.apply_force();
+  const physics::BodyId body = directory_.resolve(m.body());
+  if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
+  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
+                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+  loads_.add_force(body, to_vec3(m.force()), body_point(world_, body, m.has_point(), m.point(), m.point_frame()),
+                   ticks);
+  return ack_reply(message, next_tick_ + 1);
+}
+
+ServerMessage Simulation::apply_torque(const ClientMessage& message) {
+  const auto& m = message.apply_torque();
+  const physics::BodyId body = directory_.resolve(m.body());
+  if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
+  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
+                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+  loads_.add_torque(body, to_vec3(m.torque()), ticks);
+  return ack_reply(message, next_tick_ + 1);
+}
+
+ServerMessage Simulation::apply_impulse(const ClientMessage& message) {
+  const auto& m = message.apply_impulse();
+  const physics::BodyId body = directory_.resolve(m.body());
+  if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
+  // World point r = x + R p_body (or as given), then P += J, L += (r - x) x J.
+  const physics::Vec3 local = body_point(world_, body, m.has_point(), m.point(), m.point_frame());
+  const physics::Vec3 point = world_.position(body) + world_.orientation(body) * local;
+  world_.apply_impulse_at_point(body, to_vec3(m.impulse()), point);
+  edited_ = true;
+  return ack_reply(message, edit_tick());
+}
+
+ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
+  ServerMessage reply;
+  auto* list = reply.mutable_body_list();
+  list->set_request_id(message.request_id());
+  list->set_tick(next_tick_);
+  for (std::size_t i = 0; i < world_.body_count(); ++i) {
+    const physics::BodyId id = world_.body_id_at(i);
+    auto* info = list->add_bodies();
+    info->set_id(id);
+    if (const BodyEntry* entry = directory_.find(id)) {
+      info->set_name(entry->name);
+      *info->mutable_shape() = entry->shape;
+    }
+    info->set_mass(world_.mass(id));
+    set_vec3(world_.position(id), info->mutable_position());
+    const physics::Quat& q = world_.orientation(id);
+    auto* o = info->mutable_orientation();
+    o->set_w(q.w());
+    o->set_x(q.x());
+    o->set_y(q.y());
+    o->set_z(q.z());
+    set_vec3(world_.linear_velocity(id), info->mutable_linear_velocity());
+    set_vec3(world_.angular_velocity(id), info->mutable_angular_velocity());
+    info->set_motion(wire_motion(world_.motion_type(id)));
+    info->set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
+  }
+  return reply;
+}
+
+void Simulation::note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick) {
+  events_.push_back({tick, WorldEventKind::body_spawned, id, name});
+  sleep_.add(world_, id);
+}
+
+ServerMessage Simulation::spawn_body(const Command& command) {
+  const ClientMessage& message = command.message;
+  const tumble::v1::BodySpec& spec = message.spawn_body().body();
+  if (world_.body_count() >= config_.max_bodies) {
+    return error_reply(message, tumble::v1::RESOURCE_EXHAUSTED,
+                 "the world already holds " + std::to_string(world_.body_count()) + " bodies, the most allowed");
+  }
+  if (world_.next_body_id() >= kMaxBodyIds) {
+    return error_reply(message, tumble::v1::RESOURCE_EXHAUSTED,
+                 "the world has handed out all of the " + std::to_string(kMaxBodyIds) + " body ids it may");
+  }
+  if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
+    return error_reply(message, tumble::v1::INVALID_ARGUMENT, "body.name: '" + spec.name() + "' is used by another body");
+  }
+  physics::BodyDesc converted;
+  const physics::BodyDesc* desc = command.body_desc.get();
+  if (desc == nullptr) {
+    // Queued without submit() (a replay): convert here.
+    if (Status status = body_desc_from_spec(spec, "body", &converted); !status.ok()) {
+      return error_reply(message, tumble::v1::INVALID_ARGUMENT, status.message());
+    }
+    desc = &converted;
+  }
+  const physics::BodyId id = world_.add_body(*desc);
+  {
+    std::lock_guard lock(directory_mutex_);
+    directory_.add(id, BodyEntry{spec.name(), spec.shape(), world_.mass(id)});
+  }
+  refresh_body_count();
+  const std::uint64_t tick = edit_tick();
+  note_spawned(id, spec.name(), tick);
+  edited_ = true;
+  ServerMessage reply = ack_reply(message, tick);
+  reply.mutable_ack()->set_body_id(id);
+  return reply;
+}
+
+ServerMessage Simulation::remove_body(const ClientMessage& message) {
+  const auto& ref = message.remove_body().body();
+  const physics::BodyId id = directory_.resolve(ref);
+  if (id == physics::kInvalidBodyId) return unknown_body(message, ref);
+  const std::string name = directory_.name_of(id);
+  world_.remove_body(id);
+  loads_.remove_body(id);
+  {
+    std::lock_guard lock(directory_mutex_);
+    directory_.remove(id);
+  }
+  refresh_body_count();
+  const std::uint64_t tick = edit_tick();
+  events_.push_back({tick, WorldEventKind::body_removed, id, name});
+  edited_ = true;
+  return ack_reply(message, tick);
+}
+
+ServerMessage Simulation::set_body_state(const ClientMessage& message) {
+  const auto& m = message.set_body_state();
+  const physics::BodyId id = directory_.resolve(m.body());
+  if (id == physics::kInvalidBodyId) return unknown_body(message, m.body());
+  const physics::Vec3 position = m.has_position() ? to_vec3(m.position()) : world_.position(id);
+  physics::Quat orientation = world_.orientation(id);
+  if (m.has_orientation()) {
+    const auto& q = m.orientation();
+    orientation = physics::Quat(q.w(), q.x(), q.y(), q.z()).normalized();
+  }
+  // Velocities not given keep their world-frame values, also when the orientation changes.
+  const physics::Vec3 v = m.has_linear_velocity() ? to_vec3(m.linear_velocity()) : world_.linear_velocity(id);
+  const physics::Vec3 w = m.has_angular_velocity() ? to_vec3(m.angular_velocity()) : world_.angular_velocity(id);
+  world_.set_state(id, position, orientation, v, w);
+  edited_ = true;
+  return ack_reply(message, edit_tick());
+}
+
+ServerMessage Simulation::clear_forces(const ClientMessage& message) {
+  const auto& m = message.clear_forces();
+  if (m.has_body()) {
+    const physics::BodyId id = directory_.resolve(m.body());
+    if (id == physics::kInvalidBodyId) return unknown_body(message, m.body());
+    loads_.remove_body(id);
+  } else {
+    loads_.clear();
+  }
+  // The next step is the first without them.
+  return ack_reply(message, next_tick_ + 1);
+}
+
+ServerMessage Simulation::pause(const ClientMessage& message) {
+  if (!paused_) sim_log().info("paused at tick {}", next_tick_);
+  paused_ = true;
+  paused_flag_.store(true, std::memory_order_relaxed);
+  return ack_reply(message, next_tick_);
+}
+
+ServerMessage Simulation::resume(const ClientMessage& message) {
+  if (paused_) sim_log().info("resumed at tick {}", next_tick_);
+  paused_ = false;
+  paused_flag_.store(false, std::memory_order_relaxed);
+  return ack_reply(message, next_tick_ + 1);
+}
+
+std::optional<ServerMessage> Simulation::step(Command& command) {
+  const ClientMessage& message = command.message;
+  if (!paused_) {
+    return error_reply(message, tumble::v1::FAILED_PRECONDITION, "the simulation is running; Pause it before stepping");
+  }
+  if (steps_left_ > 0) {
+    return error_reply(message, tumble::v1::FAILED_PRECONDITION,
+                 "a Step is under way with " + std::to_string(steps_left_) + " ticks left");
+  }
+  steps_left_ = message.step().ticks();
+  step_command_ = std::move(command);
+  return std::nullopt;
+}
+
+ServerMessage Simulation::reset(const ClientMessage& message) {
+  physics::World fresh;
+  fresh.set_settings(world_.settings());
+  fresh.set_thread_count(world_.thread_count());
+  BodyDirectory directory;
+  // The scene built once in create(), so it builds again.
+  if (Status status = build_world(&fresh, &directory); !status.ok()) {
+    return error_reply(message, tumble::v1::INTERNAL, "the scene no longer builds: " + status.message());
+  }
+  // The scene's bodies get their first ids again; ids handed out since are never reused.
+  fresh.set_next_body_id(world_.next_body_id());
+  const std::uint64_t tick = edit_tick();
+  events_.push_back({tick, WorldEventKind::world_reset, physics::kInvalidBodyId, {}});
+  // Ids below the scene's body count are the scene's bodies in both worlds
+  // (ids are handed out in order and never reused).
+  for (std::size_t i = 0; i < world_.body_count(); ++i) {
+    const physics::BodyId id = world_.body_id_at(i);
+    if (!fresh.contains(id)) events_.push_back({tick, WorldEventKind::body_removed, id, directory_.name_of(id)});
+  }
+  std::vector<physics::BodyId> restored;
+  for (std::size_t i = 0; i < fresh.body_count(); ++i) {
+    const physics::BodyId id = fresh.body_id_at(i);
+    if (!world_.contains(id)) restored.push_back(id);
+  }
+  world_ = std::move(fresh);
+  set_directory(std::move(directory));
+  loads_.clear();
+  refresh_body_count();
+  if (sleep_.watching()) sleep_.start(world_);  // the fresh world's states, without events
+  for (physics::BodyId id : restored) note_spawned(id, directory_.name_of(id), tick);
+  edited_ = true;
+  sim_log().info("reset to the scene at tick {}", next_tick_);
+  return ack_reply(message, tick);
+}
+
+ServerMessage Simulation::set_tick_rate(const ClientMessage& message) {
+  const double rate = message.set_tick_rate().rate_hz();
+  // Sim time so far stays; ticks from here on last 1 / rate.
+  rate_since_time_ = time_of(next_tick_);
+  rate_since_tick_ = next_tick_;
+  dt_ = 1.0 / rate;
+  tick_rate_hz_.store(rate, std::memory_order_relaxed);
+  return ack_reply(message, next_tick_ + 1);
+}
+
+ServerMessage Simulation::stats(const ClientMessage& message) const {
+  ServerMessage reply;
+  auto& stats = *reply.mutable_stats();
+  stats.set_request_id(message.request_id());
+  stats.set_tick(next_tick_);
+  stats.set_sim_time(time_of(next_tick_));
+  stats.set_paused(paused_);
+  stats.set_tick_rate_hz(tick_rate_hz());
+  stats.set_real_time_factor(paused_ ? 0.0 : timing_.real_time_factor());
+  stats.set_tick_ms_p50(timing_.step_ms_quantile(0.5));
+  stats.set_tick_ms_p99(timing_.step_ms_quantile(0.99));
+  stats.set_tick_cpu_ms_p50(timing_.step_cpu_ms_quantile(0.5));
+  stats.set_tick_cpu_ms_p99(timing_.step_cpu_ms_quantile(0.99));
+  stats.set_tick_start_late_ms_p50(timing_.start_late_ms_quantile(0.5));
+  stats.set_tick_start_late_ms_p99(timing_.start_late_ms_quantile(0.99));
+  stats.set_overruns(overruns());
+  stats.set_bodies(static_cast<std::uint32_t>(world_.body_count()));
+  stats.set_bodies_awake(static_cast<std::uint32_t>(world_.awake_body_count()));
+  stats.set_bodies_asleep(static_cast<std::uint32_t>(world_.sleeping_body_count()));
+  return reply;
+}
+
+}  // namespace tumble::sim

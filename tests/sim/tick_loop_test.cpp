@@ -1,0 +1,117 @@
+// TickLoop on a real thread and the steady clock: what it does when a pass
+// overruns its period. The passes below busy-wait a known span of wall time,
+// so how far behind the loop is has a lower bound that needs no luck.
+#include "sim/tick_loop.h"
+
+#include <gtest/gtest.h>
+#include <pthread.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace tumble::sim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+
+constexpr double kRateHz = 1000;  // a 1 ms period
+
+// Holds the loop's thread for `span` of wall time.
+void busy_for(Clock::duration span) {
+  const Clock::time_point end = Clock::now() + span;
+  while (Clock::now() < end) {
+  }
+}
+
+// The passes a loop has run and how late each began, handed to the test thread.
+class PassLog {
+ public:
+  void add(double late_ms) {
+    {
+      std::lock_guard lock(mutex_);
+      late_ms_.push_back(late_ms);
+    }
+    changed_.notify_all();
+  }
+  // The late starts of the first `count` passes, once they have run.
+  std::vector<double> wait_for(std::size_t count) {
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return late_ms_.size() >= count; });
+    return {late_ms_.begin(), late_ms_.begin() + static_cast<std::ptrdiff_t>(count)};
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<double> late_ms_;
+};
+
+TEST(TickLoop, RunsBeginOnItsNamedThreadBeforeThePasses) {
+  TickLoop loop(8);
+  PassLog log;
+  std::string name;
+  bool begun = false;
+  bool begun_before_first_pass = false;
+  int pass = 0;
+  loop.start(
+      [&] {
+        char buffer[16] = {};
+        pthread_getname_np(pthread_self(), buffer, sizeof buffer);
+        name = buffer;
+        begun = true;
+      },
+      [&](double late_ms) {
+        if (pass++ == 0) begun_before_first_pass = begun;
+        log.add(late_ms);
+      },
+      [] { return kRateHz; });
+  log.wait_for(1);
+  loop.stop();  // joined: what the thread wrote is visible here
+  EXPECT_EQ(name, "tumbled-sim");
+  EXPECT_TRUE(begun_before_first_pass);
+}
+
+TEST(TickLoop, CatchesUpAPassThatOverranWithinTheBound) {
+  // 20 periods late, 1000 allowed: the next passes run at once, late, and
+  // nothing is skipped.
+  TickLoop loop(1000);
+  PassLog log;
+  int pass = 0;
+  loop.start([] {},
+             [&](double late_ms) {
+               if (pass++ == 0) busy_for(milliseconds(20));
+               log.add(late_ms);
+             },
+             [] { return kRateHz; });
+  const std::vector<double> late = log.wait_for(2);
+  loop.stop();
+  // Pass 2 was due 1 ms after the start and began after the 20 ms of pass 1.
+  EXPECT_GE(late[1], 19.0);
+  EXPECT_EQ(loop.overruns(), 0u);
+}
+
+TEST(TickLoop, SkipsAndCountsTheDeadlinesOfAPassFarBehind) {
+  // 20 periods late, 2 allowed: the missed deadlines are skipped and counted.
+  TickLoop loop(2);
+  PassLog log;
+  int pass = 0;
+  loop.start([] {},
+             [&](double late_ms) {
+               if (pass++ == 0) busy_for(milliseconds(20));
+               log.add(late_ms);
+             },
+             [] { return kRateHz; });
+  log.wait_for(2);
+  loop.stop();
+  // The first pass ended at least 20 ms after the start, the deadline 1 ms
+  // after it: at least 19 whole periods behind.
+  EXPECT_GE(loop.overruns(), 19u);
+}
+
+}  // namespace
+}  // namespace tumble::sim
