@@ -8,9 +8,8 @@ namespace tumble::sim {
 namespace {
 
 // Adds the sorted, unique `ids` to the sorted, unique `into`: a merge, not
-// a sort (the filters are sorted already; sorting the 10,001 ids due on a
-// fan-out tick was a fifth of the sim thread's samples under perf, on
-// bench/README's (c)). `scratch` keeps its capacity.
+// a sort, since the filters are sorted already (bench/README.md has what the
+// sort cost on a fan-out tick). `scratch` keeps its capacity.
 void merge_into(std::vector<physics::BodyId>& into, const std::vector<physics::BodyId>& ids,
                 std::vector<physics::BodyId>& scratch) {
   if (into.empty()) {

@@ -246,8 +246,8 @@ void Simulation::advance() {
   }
   // With a large snapshot due, the small streams' bodies (plan_.early()) go
   // first, in a snapshot of their own, or the copy of the large one would
-  // hold their frames back (about a millisecond for 10,000 bodies on this
-  // kind of machine, on every tick of a 60 Hz stream of all of them).
+  // hold their frames back by as long as the large copy takes, on every tick
+  // a stream of the whole world is due.
   if (!plan_.early().empty()) publish(&plan_.early(), false, true);
   publish(due == PublishPlan::Due::every_body ? nullptr : &plan_.collect_wanted(), false);
   edited_ = false;
