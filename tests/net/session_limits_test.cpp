@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <sstream>
 #include <thread>
 
 #include "raw_client.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -19,19 +19,6 @@ using tumble::v1::ServerMessage;
 
 const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
-// `count` spheres in a row, far apart, in zero gravity: big frames and
-// body lists, and nothing for the physics to collide.
-std::string row_of_spheres(int count) {
-  std::ostringstream scene;
-  scene << R"({"gravity": [0, 0, 0], "bodies": [)";
-  for (int i = 0; i < count; ++i) {
-    scene << (i ? "," : "") << R"({"name": "s)" << i << R"(", "shape": {"sphere": {"radius": 0.5}}, "mass": 1,)"
-          << R"( "position": [)" << 3 * i << ", 0, 0]}";
-  }
-  scene << "]}";
-  return scene.str();
-}
 
 bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
   return (m.has_error() && m.error().request_id() == id) || (m.has_body_list() && m.body_list().request_id() == id);
