@@ -16,8 +16,10 @@
 #   SANITIZE=address  AddressSanitizer and UndefinedBehaviorSanitizer, in
 #                     build-asan/; every test but docker, bench, the slow
 #                     one and the pure JavaScript ones (label js).
-#   SANITIZE=thread   ThreadSanitizer, in build-tsan/; only the tests that
-#                     start threads (label threads), without the slow one.
+#   SANITIZE=thread   ThreadSanitizer, in build-tsan/; only the programs
+#                     that start threads (labels net, sim, client, e2e and
+#                     physics-threads; target threaded_tests), without the
+#                     slow one.
 # A sanitizer's report, or a failed assertion, fails the test it comes from.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -53,7 +55,7 @@ case "${SANITIZE:-}" in
     build_dir=${BUILD_DIR:-build-tsan}
     BUILD_DIR=$build_dir BUILD_TYPE=Debug TARGETS=threaded_tests \
       ./scripts/build.sh "${sanitizer_args[@]}" -DTUMBLE_SANITIZE=thread
-    ctest_args+=(-L threads -LE slow)
+    ctest_args+=(-L '^(net|sim|client|e2e|physics-threads)$' -LE slow)
     ;;
   *)
     echo "test.sh: SANITIZE is address or thread, not '$SANITIZE'" >&2

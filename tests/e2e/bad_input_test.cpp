@@ -208,11 +208,14 @@ TEST_F(BadInput, TruncatedFrameThenCloseHarmsNobody) {
   ExpectHealthy(server);
   const auto list = ask(watcher, list_bodies(3));
   ASSERT_TRUE(list && list->has_body_list());
+  int crates = 0;
   for (const auto& body : list->body_list().bodies()) {
     if (body.name() == "crate") {
       EXPECT_NEAR(body.linear_velocity().x(), 1.0 / 480.0, 1e-12);
+      ++crates;
     }
   }
+  EXPECT_EQ(crates, 1) << "the body list has no crate to check";
   // And the watcher's frames kept coming.
   const auto frame = watcher.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
   EXPECT_TRUE(frame);
@@ -439,11 +442,14 @@ TEST_F(BadInput, RequestsOverTheRateAreRefusedAndNothingElseHappens) {
     std::this_thread::sleep_for(milliseconds(100));
   }
   ASSERT_TRUE(list && list->has_body_list()) << "never served again";
+  int balls = 0;
   for (const auto& body : list->body_list().bodies()) {
     if (body.name() == "ball") {
       EXPECT_DOUBLE_EQ(body.linear_velocity().x(), applied);
+      ++balls;
     }
   }
+  EXPECT_EQ(balls, 1) << "the body list has no ball to check";
   EXPECT_NE(server.log().find("refusing the excess"), std::string::npos);
   ExpectHealthy(server);
 }

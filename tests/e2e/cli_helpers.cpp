@@ -1,8 +1,15 @@
 #include "cli_helpers.h"
 
+#include <csignal>
+#include <cstdio>
+#include <optional>
 #include <sstream>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
+
+#include "poll_until.h"
 
 namespace tumble::test {
 
@@ -52,6 +59,44 @@ std::vector<json> json_lines(const std::string& text) {
   std::vector<json> values;
   for (const std::string& line : lines_of(text)) values.push_back(json::parse(line, nullptr, false));
   return values;
+}
+
+BackgroundCli::BackgroundCli(const TumbledProcess& server, const std::vector<std::string>& args)
+    : dir_(make_temp_dir()), out_path_(dir_ + "/out"), err_path_(dir_ + "/err") {
+  std::vector<std::string> argv = {tumble_cli_path(), "--server", server.server()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  process_ = std::make_unique<ChildProcess>(argv, out_path_, err_path_);
+}
+
+BackgroundCli::~BackgroundCli() {
+  process_.reset();  // kills the command if it still runs
+  std::remove(out_path_.c_str());
+  std::remove(err_path_.c_str());
+  ::rmdir(dir_.c_str());
+}
+
+std::vector<std::string> BackgroundCli::lines() const {
+  std::string text = read_file(out_path_);
+  text.erase(text.find_last_of('\n') + 1);  // a line still being written is not one yet (npos + 1 is 0)
+  return lines_of(text);
+}
+
+bool BackgroundCli::wait_for_lines(std::size_t count, std::chrono::milliseconds timeout) {
+  const bool printed = poll_until([&] { return lines().size() >= count || !process_->running(); }, timeout);
+  return printed && lines().size() >= count;
+}
+
+CommandResult BackgroundCli::finish(std::chrono::milliseconds timeout) {
+  CommandResult result;
+  if (const std::optional<int> code = process_->wait(timeout)) {
+    result.exit_code = *code;
+  } else {
+    process_->signal(SIGKILL);
+    process_->wait(std::chrono::seconds(10));
+  }
+  result.out = read_file(out_path_);
+  result.err = read_file(err_path_);
+  return result;
 }
 
 }  // namespace tumble::test

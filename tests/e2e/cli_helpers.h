@@ -4,6 +4,8 @@
 // finding a body in a body list or a frame.
 #pragma once
 
+#include <chrono>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,35 @@ std::vector<std::string> lines_of(const std::string& text);
 
 // Each line of `text` parsed as JSON (discarded values for lines that are not).
 std::vector<nlohmann::json> json_lines(const std::string& text);
+
+// `tumble ARGS...` against a server, running while the test does (a
+// subscriber, say): its stdout goes to a file the test reads as it grows,
+// so the test can wait for a line the command prints. The destructor kills
+// a command still running.
+class BackgroundCli {
+ public:
+  BackgroundCli(const TumbledProcess& server, const std::vector<std::string>& args);
+  ~BackgroundCli();
+  BackgroundCli(const BackgroundCli&) = delete;
+  BackgroundCli& operator=(const BackgroundCli&) = delete;
+
+  // The whole lines printed so far, without their newlines.
+  std::vector<std::string> lines() const;
+
+  // Waits until at least `count` whole lines are printed; false if the
+  // command ends or `timeout` passes first.
+  bool wait_for_lines(std::size_t count, std::chrono::milliseconds timeout = std::chrono::seconds(30));
+
+  // Waits for the command to end (killing it after `timeout`) and returns
+  // its exit code and output.
+  CommandResult finish(std::chrono::milliseconds timeout = std::chrono::seconds(30));
+
+ private:
+  std::string dir_;
+  std::string out_path_;
+  std::string err_path_;
+  std::unique_ptr<ChildProcess> process_;
+};
 
 // A fixture: a fresh tumbled on kFloatingScene for each test.
 class FloatingSceneTest : public ::testing::Test {

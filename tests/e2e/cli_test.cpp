@@ -113,20 +113,49 @@ TEST_F(CliTest, SubscribePrintsOneJsonLinePerFrameAtTheRate) {
 }
 
 TEST_F(CliTest, SubscribeShowsAForceTakingEffect) {
-  // Subscribe in the background while a force is applied: a later frame shows the motion.
-  std::thread push([this] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    server_.cli({"impulse", "ball", "--impulse", "0", "0", "5"});
-  });
-  const CommandResult result =
-      server_.cli({"--json", "subscribe", "--bodies", "ball", "--rate", "60", "--count", "120"});
-  push.join();
+  // A subscriber prints the 1 kg ball at 60 Hz while 3 N along z push it
+  // for 24 ticks. Frame by frame: at rest before the tick the Ack names;
+  // from that tick on, after n ticks of force, v = F n dt / m and (semi-
+  // implicit Euler) z = 50 + (F / m) dt^2 n (n + 1) / 2; once the force is
+  // over, coasting at 0.3 m/s.
+  constexpr double kForce = 3;
+  constexpr std::uint64_t kTicks = 24;
+  BackgroundCli subscriber(server_, {"--json", "subscribe", "--bodies", "ball", "--rate", "60", "--count", "120"});
+  ASSERT_TRUE(subscriber.wait_for_lines(1)) << "the subscriber printed no frame";  // it is subscribed
+  const json ack = run_json({"force", "ball", "--force", "0", "0", "3", "--ticks", std::to_string(kTicks)});
+  ASSERT_TRUE(ack.contains("applied_tick")) << ack.dump();
+  const std::uint64_t applied = ack["applied_tick"];
+  const CommandResult result = subscriber.finish();
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const std::vector<std::string> lines = lines_of(result.out);
-  ASSERT_FALSE(lines.empty());
-  const std::string& last = lines.back();
-  const json frame = json::parse(last);
-  EXPECT_FLOAT_EQ(frame["bodies"][0]["linear_velocity"][2].get<float>(), 5.0f) << last;
+
+  std::size_t at_rest = 0, pushed = 0, coasting = 0;
+  for (const json& frame : json_lines(result.out)) {
+    ASSERT_FALSE(frame.is_discarded()) << result.out;
+    const std::uint64_t tick = frame["tick"];
+    const double n = tick < applied ? 0.0 : static_cast<double>(std::min(tick - applied + 1, kTicks));
+    const double coast = tick < applied + kTicks ? 0.0 : static_cast<double>(tick - (applied + kTicks - 1));
+    const double v = kForce * n * kDt;
+    const double z = 50 + kForce * kDt * kDt * n * (n + 1) / 2 + v * coast * kDt;
+    if (tick < applied) {
+      ++at_rest;
+    } else if (coast > 0) {
+      ++coasting;
+    } else {
+      ++pushed;
+    }
+    const json& ball = body(frame, "ball");
+    SCOPED_TRACE("tick " + std::to_string(tick) + ", force applied at tick " + std::to_string(applied));
+    // The frame's numbers are float32: 50 m is good to 4e-6 m.
+    EXPECT_NEAR(ball["linear_velocity"][2].get<double>(), v, 1e-6);
+    EXPECT_NEAR(ball["position"][2].get<double>(), z, 1e-5);
+    EXPECT_EQ(ball["linear_velocity"][0], 0.0);
+    EXPECT_EQ(ball["linear_velocity"][1], 0.0);
+    EXPECT_EQ(ball["position"][0], 0.0);
+    EXPECT_EQ(ball["position"][1], 0.0);
+  }
+  EXPECT_GE(at_rest, 1u) << "the frame printed before the force";
+  EXPECT_GE(pushed, 3u) << "24 ticks at a frame every 4";
+  EXPECT_GE(coasting, 1u) << result.out;
 }
 
 // The JSON lines `tumble --json subscribe ARGS...` prints.

@@ -111,21 +111,22 @@ TEST_F(ControlCliTest, APersistentForceAcceleratesUntilCleared) {
 TEST_F(ControlCliTest, PausedTheTickStaysTheSameAcrossFrames) {
   const std::uint64_t tick = pause();
   // A subscriber gets the current state, then a frame for each edit; the tick never moves.
-  std::thread edits([this] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    server_.cli({"impulse", "ball", "--impulse", "0", "0", "1"});
-    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // two frames, not one that replaced the other
-    server_.cli({"set", "ball", "--position", "0", "0", "40"});
-  });
-  const CommandResult frames = server_.cli({"--json", "subscribe", "--bodies", "ball", "--count", "3"});
-  edits.join();
+  BackgroundCli subscriber(server_, {"--json", "subscribe", "--bodies", "ball", "--count", "3"});
+  ASSERT_TRUE(subscriber.wait_for_lines(1)) << "the subscriber printed no frame";
+  run_json({"impulse", "ball", "--impulse", "0", "0", "1"});
+  // The impulse's frame is printed before the next edit: two frames, not one that replaced the other.
+  ASSERT_TRUE(subscriber.wait_for_lines(2)) << "no frame for the impulse";
+  run_json({"set", "ball", "--position", "0", "0", "40"});
+  const CommandResult frames = subscriber.finish();
   ASSERT_EQ(frames.exit_code, 0) << frames.err;
   const auto lines = lines_of(frames.out);
   ASSERT_EQ(lines.size(), 3u) << frames.out;
   for (const std::string& line : lines) EXPECT_EQ(json::parse(line)["tick"], tick) << line;
+  EXPECT_EQ(json::parse(lines[1])["bodies"][0]["linear_velocity"], json::array({0.0, 0.0, 1.0}));
   EXPECT_EQ(json::parse(lines[2])["bodies"][0]["position"], json::array({0.0, 0.0, 40.0}));
 
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // Each request is answered by a later pass of the sim loop than the
+  // edits: had the loop stepped in between, the tick would have moved.
   EXPECT_EQ(run_json({"stats"})["tick"], tick);
   EXPECT_EQ(run_json({"bodies"})["tick"], tick);
 }
@@ -271,12 +272,10 @@ TEST_F(ControlCliTest, WatchShowsTheSameTableInEveryEncoding) {
 TEST_F(ControlCliTest, SubscribeCanAskForPosesOnlyAndEvents) {
   // Paused, the frames are the state at once and the one the spawn makes.
   pause();
-  std::thread spawner([this] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(500));
-    server_.cli({"spawn", "rock", "--sphere", "1", "--at", "0", "20", "0"});
-  });
-  const CommandResult result = server_.cli({"--json", "subscribe", "--fields", "pose", "--events", "--count", "2"});
-  spawner.join();
+  BackgroundCli subscriber(server_, {"--json", "subscribe", "--fields", "pose", "--events", "--count", "2"});
+  ASSERT_TRUE(subscriber.wait_for_lines(1)) << "the subscriber printed no frame";  // it is subscribed
+  run_json({"spawn", "rock", "--sphere", "1", "--at", "0", "20", "0"});
+  const CommandResult result = subscriber.finish();
   ASSERT_EQ(result.exit_code, 0) << result.err;
   bool saw_spawn = false;
   std::size_t frames = 0;

@@ -7,9 +7,9 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "cli_helpers.h"
+#include "poll_until.h"
 #include "sim/state_file.h"
 #include "tumbled_process.h"
 
@@ -26,6 +26,21 @@ const char* kPile = R"({"bodies": [
     {"name": "c", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 1, "position": [-0.1, 2.5, 0.1]},
     {"name": "ball", "shape": {"sphere": {"radius": 0.3}}, "mass": 1, "restitution": 0.7, "position": [3, 4, 0]},
     {"name": "pill", "shape": {"capsule": {"radius": 0.2, "half_height": 0.4}}, "mass": 1, "position": [-3, 1, 0]}]})";
+
+// The tick of the checkpoint in `path`; 0 while there is none.
+std::uint64_t checkpoint_tick(const std::string& path) {
+  tumble::v1::WorldState state;
+  bool exists = false;
+  if (!sim::read_state_file(path, &state, &exists).ok() || !exists) return 0;
+  return state.tick();
+}
+
+// Waits until `server` has stepped `ticks` past the tick it is at now.
+void wait_for_ticks(const TumbledProcess& server, std::uint64_t ticks) {
+  const std::uint64_t target = run_json(server, {"stats"})["tick"].get<std::uint64_t>() + ticks;
+  EXPECT_TRUE(poll_until([&] { return run_json(server, {"stats"})["tick"].get<std::uint64_t>() >= target; }))
+      << "the server did not reach tick " << target;
+}
 
 // SIGTERM, and the exit code.
 int terminate(TumbledProcess& server) {
@@ -76,8 +91,10 @@ TEST(Persistence, CheckpointsBoundWhatAKillLoses) {
   const std::string state = make_temp_dir() + "/world.state";
   TumbledProcess server(kFloatingScene, {"--state", state, "--checkpoint-interval", "0.25"});
   ASSERT_TRUE(server.started()) << server.log();
-  run_ok(server, {"impulse", "crate", "--impulse", "2", "0", "0"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const std::uint64_t pushed = run_json(server, {"impulse", "crate", "--impulse", "2", "0", "0"})["applied_tick"];
+  // A checkpoint written 0.75 s (180 ticks) after the impulse or later, then the kill.
+  ASSERT_TRUE(poll_until([&] { return checkpoint_tick(state) >= pushed + 180; }))
+      << "no checkpoint 180 ticks after the impulse\n" << server.log();
   const std::uint64_t seen = run_json(server, {"stats"})["tick"].get<std::uint64_t>();
   server.process().signal(SIGKILL);
   ASSERT_EQ(server.process().wait(std::chrono::seconds(10)), 128 + SIGKILL);
@@ -107,18 +124,18 @@ TEST(Persistence, AReplayOfARecordedRunEndsInTheSameWorldBitForBit) {
     run_ok(server, {"force", "c", "--force", "0", "0", "40", "--duration", "0.3"});
     run_ok(server, {"impulse", "ball", "--impulse", "-3", "0", "0"});
     run_ok(server, {"spawn", "late", "--box", "0.3", "0.3", "0.3", "--mass", "2", "--at", "0", "6", "0"});
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    wait_for_ticks(server, 48);
     run_ok(server, {"pause"});
     run_ok(server, {"step", "7"});
     run_ok(server, {"torque", "pill", "--torque", "0", "2", "0", "--persistent"});
     run_ok(server, {"set", "a", "--velocity", "0", "0", "1"});
     run_ok(server, {"resume"});
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    wait_for_ticks(server, 72);
     run_ok(server, {"remove", "b"});
     run_ok(server, {"clear", "pill"});
     run_ok(server, {"tick-rate", "120"});
     run_ok(server, {"impulse", "a", "--impulse", "1", "0", "0", "--at", "0", "1", "0"});
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    wait_for_ticks(server, 36);
     ASSERT_EQ(terminate(server), 0) << server.log();
   }
   const std::string replayed_state = dir + "/replayed.state";

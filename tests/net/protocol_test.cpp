@@ -5,16 +5,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "poll_until.h"
 #include "raw_client.h"
 #include "protocol_checks.h"
 #include "replies.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -363,15 +366,58 @@ TEST_F(BadInputTest, AClientThatVanishesMidFrameHarmsNobody) {
   EXPECT_TRUE(next.handshake());
 }
 
-TEST_F(BadInputTest, AClientThatNeverReadsDoesNotGrowTheServer) {
-  // Subscribe to everything every tick and never read: frames are
-  // latest-wins, so the server's queue for this client stays one frame deep.
-  RawClient sleeper(server_.port());
+// This process's resident memory, in bytes: the in-process server's, since
+// the test itself holds nothing that grows.
+std::size_t resident_bytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stoul(line.substr(6)) * 1024;  // "VmRSS:   1234 kB"
+  }
+  ADD_FAILURE() << "no VmRSS in /proc/self/status";
+  return 0;
+}
+
+// Waits until `sim` has stepped to `tick`; false if it does not within a minute.
+bool reach_tick(sim::Simulation& sim, std::uint64_t tick) {
+  return poll_until([&] { return sim.tick() >= tick; }, std::chrono::seconds(60));
+}
+
+TEST(NeverReadingClientTest, AClientThatNeverReadsDoesNotGrowTheServer) {
+  // 400 bodies, every tick, to a client that never reads: about 12 kB a
+  // frame, 240 frames a second. Frames are latest-wins, so once the socket
+  // buffers are full the server holds one frame for this client however
+  // long it waits. A server that queued every frame would grow by some
+  // 3 MB a second.
+  TestServer server(row_of_spheres(400));
+  RawClient watcher(server.port());
+  ASSERT_TRUE(watcher.handshake());
+  ASSERT_TRUE(watcher.send(subscribe(1, 60, {"s0"})));
+  ASSERT_TRUE(watcher.read_until([](const ServerMessage& m) { return m.has_subscribed(); }));
+
+  RawClient sleeper(server.port());
   ASSERT_TRUE(sleeper.handshake());
   ASSERT_TRUE(sleeper.send(subscribe(2, 0)));
-  const std::uint64_t start = server_.sim().tick();
-  while (server_.sim().tick() < start + 240) std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  ExpectWatcherStillServed();
+  const std::uint64_t start = server.sim().tick();
+  // A second to fill the socket buffers and settle the allocator, then
+  // three seconds of frames the client does not take.
+  ASSERT_TRUE(reach_tick(server.sim(), start + 240));
+  const std::size_t settled = resident_bytes();
+  ASSERT_TRUE(reach_tick(server.sim(), start + 960));
+  const std::size_t later = resident_bytes();
+  // 720 frames queued would be over 8 MB; a bounded server stays within
+  // the allocator's noise.
+  EXPECT_LT(later, settled + (std::size_t{2} << 20)) << "grew from " << settled << " to " << later << " bytes";
+
+  // And the other subscriber is served throughout.
+  std::uint64_t first = 0;
+  for (int i = 0; i < 3; ++i) {
+    const auto frame = watcher.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
+    ASSERT_TRUE(frame) << "the other subscriber stopped receiving frames";
+    if (i == 0) first = frame->pose_frame().tick();
+    if (i == 2) {
+      EXPECT_GT(frame->pose_frame().tick(), first);
+    }
+  }
 }
 
 }  // namespace

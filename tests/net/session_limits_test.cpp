@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <map>
-#include <sstream>
 #include <thread>
 
 #include "raw_client.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -19,19 +19,6 @@ using tumble::v1::ServerMessage;
 
 const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
-// `count` spheres in a row, far apart, in zero gravity: big frames and
-// body lists, and nothing for the physics to collide.
-std::string row_of_spheres(int count) {
-  std::ostringstream scene;
-  scene << R"({"gravity": [0, 0, 0], "bodies": [)";
-  for (int i = 0; i < count; ++i) {
-    scene << (i ? "," : "") << R"({"name": "s)" << i << R"(", "shape": {"sphere": {"radius": 0.5}}, "mass": 1,)"
-          << R"( "position": [)" << 3 * i << ", 0, 0]}";
-  }
-  scene << "]}";
-  return scene.str();
-}
 
 bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
   return (m.has_error() && m.error().request_id() == id) || (m.has_body_list() && m.body_list().request_id() == id);
@@ -83,7 +70,13 @@ TEST(SessionLimits, AGreetedClientOutlivesTheHandshakeTimeout) {
 
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
-  std::this_thread::sleep_for(milliseconds(1500));
+  // A client that connects later and says nothing is cut off once its
+  // timeout has passed: by then the greeted client's has passed too.
+  RawClient silent(server.port());
+  ASSERT_TRUE(silent.connected());
+  const auto cut_off = silent.read(std::chrono::seconds(20));
+  ASSERT_TRUE(cut_off && cut_off->has_error()) << (cut_off ? cut_off->DebugString() : "no reply");
+  EXPECT_EQ(cut_off->error().code(), tumble::v1::HANDSHAKE_REQUIRED);
   ASSERT_TRUE(client.send(list_bodies(2)));
   const auto list = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
   ASSERT_TRUE(list && list->has_body_list());
@@ -130,7 +123,6 @@ TEST(SessionLimits, RequestsOverTheRateAreRefusedAndTheClientRecovers) {
   EXPECT_EQ(served + limited, 30);
 
   // A token comes back every 0.2 s: the same connection is served again.
-  std::this_thread::sleep_for(milliseconds(250));
   bool recovered = false;
   for (std::uint64_t id = 100; id < 150 && !recovered; ++id) {
     ASSERT_TRUE(client.send(list_bodies(id)));

@@ -2,11 +2,17 @@
 // helpers, job after job, and the team can grow, shrink and stop.
 #include <gtest/gtest.h>
 
+#include <sys/types.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <set>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -88,17 +94,66 @@ TEST(WorkerTeamTest, OneThreadRunsInOrderOnTheCaller) {
   EXPECT_TRUE(on_caller);
 }
 
-TEST(WorkerTeamTest, GrowsShrinksAndStops) {
-  WorkerTeam team;
-  for (int threads : {4, 2, 1, 0, 3, 3, 1}) {
-    team.set_thread_count(threads);
-    EXPECT_EQ(team.thread_count(), threads < 1 ? 1 : threads);
-    const std::vector<int> hits = run_jobs(team, 64, 10);
-    for (int h : hits) ASSERT_EQ(h, 10);
+// The ids of this process's threads named "tumble-physics": the team's
+// helpers (worker_team.cpp names them so).
+std::set<pid_t> helper_tids() {
+  std::set<pid_t> tids;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string name;
+    if (std::getline(comm, name) && name == "tumble-physics") tids.insert(std::stoi(task.path().filename().string()));
   }
-  team.set_thread_count(4);
-  // The destructor stops helpers that sleep between jobs.
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return tids;
+}
+
+// Waits up to 10 s for exactly `count` helper threads: a helper that has
+// been joined may linger in /proc for a moment before the kernel reaps it,
+// and a new one is named just after it starts.
+bool helper_count_becomes(std::size_t count) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (helper_tids().size() != count) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
+TEST(WorkerTeamTest, GrowsShrinksAndStops) {
+  ASSERT_TRUE(helper_count_becomes(0)) << "helpers of another team are still running";
+  const pid_t caller = static_cast<pid_t>(::gettid());
+  {
+    WorkerTeam team;
+    for (int threads : {4, 2, 1, 0, 3, 3, 1}) {
+      team.set_thread_count(threads);
+      const int expected = threads < 1 ? 1 : threads;
+      EXPECT_EQ(team.thread_count(), expected);
+      ASSERT_TRUE(helper_count_becomes(static_cast<std::size_t>(expected - 1)))
+          << helper_tids().size() << " helper threads for a team of " << expected;
+      std::set<pid_t> allowed = helper_tids();
+      allowed.insert(caller);
+
+      // Every task once per job, and only on the caller and the helpers
+      // running now: a helper that was stopped runs nothing.
+      std::vector<int> hits(64, 0);
+      std::mutex mutex;
+      std::set<pid_t> runners;
+      auto task = [&](std::size_t i) {
+        ++hits[i];
+        std::lock_guard lock(mutex);
+        runners.insert(static_cast<pid_t>(::gettid()));
+      };
+      for (int job = 0; job < 10; ++job) team.for_each(hits.size(), task);
+      for (int h : hits) ASSERT_EQ(h, 10);
+      for (pid_t runner : runners) EXPECT_EQ(allowed.count(runner), 1u) << "task ran on thread " << runner;
+      if (expected == 1) {
+        EXPECT_EQ(runners, std::set<pid_t>{caller});
+      }
+    }
+    team.set_thread_count(4);
+    ASSERT_TRUE(helper_count_becomes(3));
+  }
+  // The destructor stops helpers that sleep between jobs: every one of them exits.
+  EXPECT_TRUE(helper_count_becomes(0)) << helper_tids().size() << " helper threads outlived their team";
 }
 
 }  // namespace

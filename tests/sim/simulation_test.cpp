@@ -2,10 +2,15 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "sim/request_check.h"
@@ -381,15 +386,41 @@ TEST_F(SimulationTest, SnapshotHoldsThePosesAfterTheStep) {
   EXPECT_FALSE(last->out_of_band);
 }
 
+// How many threads of this process are named "tumbled-sim" (simulation.cpp
+// names its thread so).
+std::size_t sim_threads() {
+  std::size_t count = 0;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string name;
+    if (std::getline(comm, name) && name == "tumbled-sim") ++count;
+  }
+  return count;
+}
+
+// Waits up to 10 s until sim_threads() is `count`: a joined thread may stay
+// in /proc for a moment before the kernel reaps it.
+bool sim_threads_become(std::size_t count) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (sim_threads() != count) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
 TEST_F(SimulationTest, RunsOnItsOwnThreadAtTheTickRate) {
+  ASSERT_TRUE(sim_threads_become(0)) << "a sim thread of another test is still running";
   sim_->start();
   // Generous bound on a shared machine: only that ticks advance, not how fast.
   for (int i = 0; i < 500 && sim_->tick() < 24; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(sim_threads(), 1u);
   sim_->stop();
-  EXPECT_GE(sim_->tick(), 24u);
   const std::uint64_t stopped_at = sim_->tick();
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  EXPECT_EQ(sim_->tick(), stopped_at) << "stop() joins the sim thread";
+  EXPECT_GE(stopped_at, 24u);
+  // stop() joins the sim thread: it is gone, and stepped nothing after stop() returned.
+  EXPECT_TRUE(sim_threads_become(0)) << "the sim thread outlived stop()";
+  EXPECT_EQ(sim_->tick(), stopped_at);
 }
 
 }  // namespace

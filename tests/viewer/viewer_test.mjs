@@ -58,12 +58,15 @@ async function bodyFromCli(name) {
 const length = (v) => Math.hypot(...v);
 const distance = (a, b) => Math.hypot(...a.map((x, i) => x - b[i]));
 
-// Waits until the CLI shows body `name` at rest (it has landed and settled).
+// Waits until the CLI shows body `name` at rest (it has landed and
+// settled); returns the body and the tick the CLI saw it at.
 async function waitUntilAtRest(name) {
   const deadline = Date.now() + 3 * kWaitMs;
   for (;;) {
-    const body = await bodyFromCli(name);
-    if (length(body.linear_velocity) < 0.02 && length(body.angular_velocity) < 0.05) return body;
+    const list = await tumble("bodies");
+    const body = list.bodies.find((b) => b.name === name);
+    assert.ok(body, `no body named ${name}`);
+    if (length(body.linear_velocity) < 0.02 && length(body.angular_velocity) < 0.05) return { ...body, tick: list.tick };
     assert.ok(Date.now() < deadline, `${name} did not come to rest: ${JSON.stringify(body)}`);
     await new Promise((resolve) => setTimeout(resolve, 200));
   }
@@ -152,6 +155,19 @@ function distinctColors(page) {
   });
 }
 
+// The page draws the poses about one stream period behind the newest frame
+// it has; these many ticks (a quarter second at the server's 120 Hz) cover
+// that period and the page's clock estimate.
+const kDrawLagTicks = 30;
+
+// Waits until the page holds pose frames kDrawLagTicks past `tick` and has
+// drawn two pictures since: what it draws now shows the world at `tick` or
+// later.
+async function waitUntilDrawnPast(page, tick) {
+  await page.waitForFunction((t) => window.tumbleViewer.lastTick >= t, tick + kDrawLagTicks, { timeout: kWaitMs });
+  await page.evaluate(() => new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(resolve))));
+}
+
 const screenPosition = (page, id) => page.evaluate((id) => window.tumbleViewer.screenPosition(id), id);
 
 // Waits until body `id` is drawn more than `px` CSS pixels from `from`.
@@ -189,6 +205,7 @@ test("the page draws the bodies, follows a push from the CLI and shows a selecte
   const ground = [0, 1, 2].map((k) => bottom.map((color) => color[k]).sort((a, b) => a - b)[bottom.length >> 1]);
   assert.ok(bottom.filter((color) => colorDistance(color, ground) < 10).length > bottom.length / 2,
             `the bottom of the view is not ground: ${JSON.stringify(bottom)}`);
+  assert.ok(bodies.length > 0, "no body is drawn inside the view");
   for (const body of bodies) {
     assert.ok(colorDistance(body.color, ground) > 25,
               `body ${body.id} at ${JSON.stringify(body.at)} looks like the ground ${ground}: ${body.color}`);
@@ -197,10 +214,10 @@ test("the page draws the bodies, follows a push from the CLI and shows a selecte
   // The top crate of the stack, at rest: where the page draws it, the
   // canvas shows it; once a push from the CLI has thrown it off, the same
   // pixels show what was behind it.
-  await waitUntilAtRest("crate4");
+  const resting = await waitUntilAtRest("crate4");
   const crate = await page.evaluate(() => window.tumbleViewer.bodyId("crate4"));
-  // Rendering lags a frame period behind the stream: let it catch up.
-  await page.waitForTimeout(500);
+  // Rendering lags a frame period behind the stream: wait until it draws the crate at rest.
+  await waitUntilDrawnPast(page, resting.tick);
   const before = await screenPosition(page, crate);
   const [there] = await colorsAt(page, [before]);
   const ack = await tumble("impulse", "crate4", "--impulse", "-8", "0", "0");
@@ -222,7 +239,10 @@ test("the page draws the bodies, follows a push from the CLI and shows a selecte
   assert.equal(await panel.locator('[data-field="id"]').textContent(), String(target));
   assert.match(await panel.locator('[data-field="shape"]').textContent(), /^box, half extents 0.5 x 0.5 x 0.5 m$/);
 
-  await page.waitForTimeout(1000);  // crate4 lands, the HUD has its stats
+  // For the screenshot: crate4 has landed and is drawn there, and the HUD has the server's stats.
+  await waitUntilDrawnPast(page, (await waitUntilAtRest("crate4")).tick);
+  await page.waitForFunction(() => /^\d+ \(\d+ asleep\)$/.test(
+    document.querySelector('[data-hud="bodies"]')?.textContent ?? ""), null, { timeout: kWaitMs });
   if (options.screenshot) await page.screenshot({ path: options.screenshot });
   assert.deepEqual(page.errors, []);
   await page.close();
@@ -232,7 +252,7 @@ test("dragging a body pushes it", async () => {
   const page = await openViewer(`#token=${kControllerToken}`);
   await waitUntilReady(page);
   const rest = await waitUntilAtRest("pill");
-  await page.waitForTimeout(500);
+  await waitUntilDrawnPast(page, rest.tick);
   const pill = await page.evaluate(() => window.tumbleViewer.bodyId("pill"));
   const from = await screenPosition(page, pill);
   await page.mouse.move(from.x, from.y);
