@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "physics/worker_team.h"
+#include "worker_team.h"
 
 namespace tumble::physics {
 namespace {
