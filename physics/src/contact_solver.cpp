@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "rotation.h"
+#include "run_tasks.h"
 
 namespace tumble::physics {
 namespace {
@@ -627,7 +628,7 @@ void ContactSolver::store_impulses(const Group& group) const {
   }
 }
 
-void ContactSolver::solve(std::span<SolverVelocity> velocities, WorkerTeam* team) {
+void ContactSolver::solve(std::span<SolverVelocity> velocities, TaskSystem* team) {
   // Groups of consecutive islands (their constraints and bodies are
   // contiguous), then their slots and wide constraints, on this thread.
   groups_.clear();
@@ -665,7 +666,7 @@ void ContactSolver::solve(std::span<SolverVelocity> velocities, WorkerTeam* team
     return groups_[x].point_count != groups_[y].point_count ? groups_[x].point_count > groups_[y].point_count : x < y;
   });
   auto task = [&](std::size_t k) { solve_group(groups_[group_order_[k]], velocities); };
-  team->for_each(group_order_.size(), task);
+  run_tasks(*team, group_order_.size(), task);
 }
 
 void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> velocities) {

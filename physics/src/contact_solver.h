@@ -45,7 +45,7 @@
 // (static and kinematic bodies, which no constraint moves, do not join
 // islands). Consecutive islands are gathered into groups of at least
 // kGroupPoints points, and each group is solved on its own, start to end, as
-// one task of a WorkerTeam. No two groups write the same body or contact, so
+// one task of a TaskSystem. No two groups write the same body or contact, so
 // they may run on several threads at once; the groups do not depend on the
 // thread count, and each group's arithmetic is the same whichever thread runs
 // it, so results do not depend on the thread count.
@@ -73,7 +73,7 @@
 #include "float4.h"
 #include "transform.h"
 #include "tumble/physics/math.h"
-#include "worker_team.h"
+#include "tumble/physics/task_system.h"
 
 namespace tumble::physics {
 
@@ -123,7 +123,7 @@ class ContactSolver {
   // restitution on velocities, and stores the impulses in the contacts for
   // the next step's warm start. velocities holds every body's velocity at
   // the end of the step before contacts (the external change already added).
-  void solve(std::span<SolverVelocity> velocities, WorkerTeam* team);
+  void solve(std::span<SolverVelocity> velocities, TaskSystem* team);
 
   // Dynamic bodies in at least one constraint this step, island by island.
   std::span<const std::uint32_t> touched_bodies() const { return touched_; }

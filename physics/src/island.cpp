@@ -11,11 +11,11 @@
 // leave sleeping out).
 #include <algorithm>
 
-#include "tumble/physics/world.h"
+#include "world_impl.h"
 
 namespace tumble::physics {
 
-void World::update_sleep(double dt) {
+void World::Impl::update_sleep(double dt) {
   if (!settings_.sleep_enabled) return;
   const double time_to_sleep = settings_.time_to_sleep;
   bool any_ready = false;
@@ -80,7 +80,7 @@ void World::update_sleep(double dt) {
   }
 }
 
-void World::put_to_sleep(std::uint32_t body) {
+void World::Impl::put_to_sleep(std::uint32_t body) {
   BodyRecord& record = records_[body];
   awake_[body] = 0;
   record.reach = 0;
@@ -89,7 +89,7 @@ void World::put_to_sleep(std::uint32_t body) {
   velocities_[body] = SolverVelocity{};
 }
 
-void World::wake_island(std::uint32_t body) {
+void World::Impl::wake_island(std::uint32_t body) {
   if (records_[body].motion_type != MotionType::dynamic_body || awake_[body]) return;
   // Flood over touching contacts to the sleeping dynamic bodies.
   island_stack_.clear();

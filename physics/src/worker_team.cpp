@@ -65,7 +65,7 @@ void WorkerTeam::work(std::uint32_t job) {
     const std::uint32_t count = count_.load(std::memory_order_acquire);
     const std::uint32_t task = static_cast<std::uint32_t>(claim);
     if (task >= count) return;
-    const TaskFn fn = fn_.load(std::memory_order_acquire);
+    const TaskFunction fn = fn_.load(std::memory_order_acquire);
     void* context = context_.load(std::memory_order_acquire);
     if (!claim_.compare_exchange_weak(claim, claim + 1, std::memory_order_acq_rel, std::memory_order_acquire)) {
       continue;  // claim holds the current value; look again
@@ -104,14 +104,14 @@ void WorkerTeam::helper_main(std::uint32_t seen) {
   }
 }
 
-void WorkerTeam::run(std::size_t count, TaskFn fn, void* context) {
+void WorkerTeam::run(TaskFunction fn, void* context, std::uint32_t count) {
   if (count == 0) return;
   if (helpers_.empty() || count == 1) {
-    for (std::size_t i = 0; i < count; ++i) fn(context, i);
+    for (std::uint32_t i = 0; i < count; ++i) fn(context, i);
     return;
   }
   assert(count < kClosed);
-  const std::uint32_t tasks = static_cast<std::uint32_t>(count);
+  const std::uint32_t tasks = count;
   ++job_;
   // Close the claims first: a helper still looking at the last job must not
   // pair its (exhausted) claim with this job's larger count. A helper that

@@ -1,7 +1,8 @@
 // WorkerTeam: a few helper threads that run the tasks of one parallel phase
-// of a step together with the thread that calls run().
+// of a step together with the thread that calls run(); the World's built-in
+// TaskSystem (task_system.h), made by World::set_thread_count.
 //
-// run(count, fn, context) calls fn(context, i) once for every task i in
+// run(fn, context, count) calls fn(context, i) once for every task i in
 // [0, count): the caller and the helpers claim tasks one at a time, in index
 // order, from a shared counter, and run() returns once every task has
 // finished. The caller never waits for a helper that has not started: a
@@ -29,14 +30,14 @@
 #include <thread>
 #include <vector>
 
+#include "tumble/physics/task_system.h"
+
 namespace tumble::physics {
 
-class WorkerTeam {
+class WorkerTeam final : public TaskSystem {
  public:
-  using TaskFn = void (*)(void* context, std::size_t task);
-
   WorkerTeam() = default;
-  ~WorkerTeam();
+  ~WorkerTeam() override;
   WorkerTeam(const WorkerTeam&) = delete;
   WorkerTeam& operator=(const WorkerTeam&) = delete;
 
@@ -44,17 +45,11 @@ class WorkerTeam {
   // runs every task on the caller. Values below 1 count as 1. Starts or
   // stops helpers; must not be called during run().
   void set_thread_count(int threads);
-  int thread_count() const { return static_cast<int>(helpers_.size()) + 1; }
+  int thread_count() const override { return static_cast<int>(helpers_.size()) + 1; }
 
   // Runs fn(context, i) for i in [0, count) and returns when all have
   // finished.
-  void run(std::size_t count, TaskFn fn, void* context);
-
-  // run() with a callable f(std::size_t task) that outlives the call.
-  template <typename F>
-  void for_each(std::size_t count, F& f) {
-    run(count, [](void* c, std::size_t task) { (*static_cast<F*>(c))(task); }, &f);
-  }
+  void run(TaskFunction fn, void* context, std::uint32_t count) override;
 
  private:
   // seen: the value of wake_ when the helper was made.
@@ -74,7 +69,7 @@ class WorkerTeam {
   // (task number kClosed), then writes fn_, context_ and count_, then
   // publishes claim_: a claim that succeeds read the matching values.
   std::atomic<std::uint64_t> claim_{0};
-  std::atomic<TaskFn> fn_{nullptr};
+  std::atomic<TaskFunction> fn_{nullptr};
   std::atomic<void*> context_{nullptr};
   std::atomic<std::uint32_t> count_{0};
   std::atomic<std::uint32_t> done_{0};  // tasks of the current job finished

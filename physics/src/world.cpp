@@ -1,7 +1,7 @@
 // World: body creation, removal, accessors and the calls that change a
 // body's state. The step pipeline is in world_step.cpp, contacts in
 // world_contacts.cpp, sleeping in island.cpp.
-#include "tumble/physics/world.h"
+#include "world_impl.h"
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -43,16 +43,16 @@ void swap_remove(std::vector<T>& v, std::size_t index) {
 
 }  // namespace
 
-World::World() : gravity_(0.0, -9.81, 0.0) {}
+World::Impl::Impl() : gravity_(0.0, -9.81, 0.0) {}
 
-void World::set_gravity(const Vec3& g) {
+void World::Impl::set_gravity(const Vec3& g) {
   gravity_ = g;
   for (std::size_t i = 0; i < records_.size(); ++i) wake_island(static_cast<std::uint32_t>(i));
 }
 
-const Vec3& World::gravity() const { return gravity_; }
+const Vec3& World::Impl::gravity() const { return gravity_; }
 
-void World::set_settings(const WorldSettings& settings) {
+void World::Impl::set_settings(const WorldSettings& settings) {
   settings_ = settings;
   // Whether two step boxes are apart depends on the contact margin: every
   // pair looks again at its next update.
@@ -62,7 +62,7 @@ void World::set_settings(const WorldSettings& settings) {
   }
 }
 
-Aabb World::shape_aabb(std::size_t i) const {
+Aabb World::Impl::shape_aabb(std::size_t i) const {
   const Shape& shape = shapes_[i];
   const Transform& t = transforms_[i];
   switch (shape.type) {
@@ -88,14 +88,14 @@ Aabb World::shape_aabb(std::size_t i) const {
   return Aabb{t.position, t.position};
 }
 
-void World::set_box(std::size_t i, const Aabb& box) {
+void World::Impl::set_box(std::size_t i, const Aabb& box) {
   Aabb& current = aabbs_[i];
   if (current.min == box.min && current.max == box.max) return;
   current = box;
   box_passes_[i] = contact_pass_ + 1;  // update_contacts() counts the pass first
 }
 
-void World::refresh_solver_data(std::size_t i) {
+void World::Impl::refresh_solver_data(std::size_t i) {
   const BodyState& state = states_[i];
   transforms_[i] = Transform{state.position, state.orientation.toRotationMatrix()};
   if (is_dynamic(i)) {
@@ -107,18 +107,18 @@ void World::refresh_solver_data(std::size_t i) {
   }
 }
 
-void World::set_kinematic_awake(std::size_t i) {
+void World::Impl::set_kinematic_awake(std::size_t i) {
   BodyRecord& record = records_[i];
   awake_[i] = !record.kinematic_linear_velocity.isZero(0) || !record.kinematic_angular_velocity.isZero(0);
   if (!awake_[i]) record.reach = 0;
 }
 
-BodyId World::add_body(const BodyDesc& desc) {
+BodyId World::Impl::add_body(const BodyDesc& desc) {
   assert(id_to_dense_.size() < kInvalidBodyId);
   return add_body_with_id(desc, static_cast<BodyId>(id_to_dense_.size()));
 }
 
-BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) {
+BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   assert(id != kInvalidBodyId && !contains(id));
   // Ids between the next one and `id` are marked unused: they are never
   // handed out, as if their bodies had been removed.
@@ -217,7 +217,7 @@ BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) {
   return id;
 }
 
-bool World::remove_body(BodyId id) {
+bool World::Impl::remove_body(BodyId id) {
   if (!contains(id)) return false;
   const std::uint32_t index = id_to_dense_[id];
   const std::uint32_t last = static_cast<std::uint32_t>(states_.size() - 1);
@@ -251,34 +251,34 @@ bool World::remove_body(BodyId id) {
   return true;
 }
 
-bool World::contains(BodyId id) const { return id < id_to_dense_.size() && id_to_dense_[id] != kNoIndex; }
+bool World::Impl::contains(BodyId id) const { return id < id_to_dense_.size() && id_to_dense_[id] != kNoIndex; }
 
-std::size_t World::body_count() const { return states_.size(); }
+std::size_t World::Impl::body_count() const { return states_.size(); }
 
-BodyId World::body_id_at(std::size_t index) const {
+BodyId World::Impl::body_id_at(std::size_t index) const {
   assert(index < dense_to_id_.size());
   return dense_to_id_[index];
 }
 
-std::size_t World::dense_index(BodyId id) const {
+std::size_t World::Impl::dense_index(BodyId id) const {
   assert(contains(id));
   return id_to_dense_[id];
 }
 
-const Vec3& World::position(BodyId id) const { return states_[dense_index(id)].position; }
+const Vec3& World::Impl::position(BodyId id) const { return states_[dense_index(id)].position; }
 
-const Quat& World::orientation(BodyId id) const { return states_[dense_index(id)].orientation; }
+const Quat& World::Impl::orientation(BodyId id) const { return states_[dense_index(id)].orientation; }
 
-Vec3 World::linear_velocity(BodyId id) const { return linear_velocity_at(dense_index(id)); }
+Vec3 World::Impl::linear_velocity(BodyId id) const { return linear_velocity_at(dense_index(id)); }
 
-Vec3 World::angular_velocity(BodyId id) const { return angular_velocity_at(dense_index(id)); }
+Vec3 World::Impl::angular_velocity(BodyId id) const { return angular_velocity_at(dense_index(id)); }
 
-Vec3 World::linear_velocity_at(std::size_t i) const {
+Vec3 World::Impl::linear_velocity_at(std::size_t i) const {
   if (records_[i].motion_type == MotionType::kinematic_body) return records_[i].kinematic_linear_velocity;
   return states_[i].linear_momentum * inverse_masses_[i];  // 1/M, kept flat beside the states
 }
 
-Vec3 World::angular_velocity_at(std::size_t i) const {
+Vec3 World::Impl::angular_velocity_at(std::size_t i) const {
   if (records_[i].motion_type == MotionType::kinematic_body) return records_[i].kinematic_angular_velocity;
   // Sleeping and static bodies have L = 0: no tensor to build (a resting
   // world is read every tick for its frames).
@@ -288,7 +288,7 @@ Vec3 World::angular_velocity_at(std::size_t i) const {
   return body_to_world_tensor(states_[i].orientation, masses_[i].inverse_inertia_body) * l;
 }
 
-void World::copy_poses(BodyId* ids, double* positions, double* orientations, double* linear_velocities,
+void World::Impl::copy_poses(BodyId* ids, double* positions, double* orientations, double* linear_velocities,
                        double* angular_velocities) const {
   for (std::size_t i = 0; i < states_.size(); ++i) {
     const BodyState& state = states_[i];
@@ -306,37 +306,37 @@ void World::copy_poses(BodyId* ids, double* positions, double* orientations, dou
   }
 }
 
-const Vec3& World::linear_momentum(BodyId id) const { return states_[dense_index(id)].linear_momentum; }
+const Vec3& World::Impl::linear_momentum(BodyId id) const { return states_[dense_index(id)].linear_momentum; }
 
-const Vec3& World::angular_momentum(BodyId id) const { return states_[dense_index(id)].angular_momentum; }
+const Vec3& World::Impl::angular_momentum(BodyId id) const { return states_[dense_index(id)].angular_momentum; }
 
-double World::mass(BodyId id) const { return masses_[dense_index(id)].mass; }
+double World::Impl::mass(BodyId id) const { return masses_[dense_index(id)].mass; }
 
-Mat3 World::inertia_world(BodyId id) const {
+Mat3 World::Impl::inertia_world(BodyId id) const {
   const std::size_t i = dense_index(id);
   return body_to_world_tensor(states_[i].orientation, masses_[i].inertia_body);
 }
 
-const Mat3& World::inertia_body(BodyId id) const { return masses_[dense_index(id)].inertia_body; }
+const Mat3& World::Impl::inertia_body(BodyId id) const { return masses_[dense_index(id)].inertia_body; }
 
-const Shape& World::shape(BodyId id) const { return shapes_[dense_index(id)]; }
+const Shape& World::Impl::shape(BodyId id) const { return shapes_[dense_index(id)]; }
 
-double World::kinetic_energy(BodyId id) const {
+double World::Impl::kinetic_energy(BodyId id) const {
   // 1/2 (P.v + L.w) = 1/2 M v.v + 1/2 w^T I w.
   return 0.5 * (linear_momentum(id).dot(linear_velocity(id)) + angular_momentum(id).dot(angular_velocity(id)));
 }
 
-MotionType World::motion_type(BodyId id) const { return records_[dense_index(id)].motion_type; }
+MotionType World::Impl::motion_type(BodyId id) const { return records_[dense_index(id)].motion_type; }
 
-double World::friction(BodyId id) const { return frictions_[dense_index(id)]; }
+double World::Impl::friction(BodyId id) const { return frictions_[dense_index(id)]; }
 
-double World::restitution(BodyId id) const { return restitutions_[dense_index(id)]; }
+double World::Impl::restitution(BodyId id) const { return restitutions_[dense_index(id)]; }
 
-void World::set_friction(BodyId id, double friction) { frictions_[dense_index(id)] = friction; }
+void World::Impl::set_friction(BodyId id, double friction) { frictions_[dense_index(id)] = friction; }
 
-void World::set_restitution(BodyId id, double restitution) { restitutions_[dense_index(id)] = restitution; }
+void World::Impl::set_restitution(BodyId id, double restitution) { restitutions_[dense_index(id)] = restitution; }
 
-void World::set_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_velocity,
+void World::Impl::set_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_velocity,
                       const Vec3& angular_velocity) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   BodyState& state = states_[i];
@@ -383,14 +383,14 @@ void World::set_state(BodyId id, const Vec3& position, const Quat& orientation, 
   }
 }
 
-void World::add_force(BodyId id, const Vec3& force) {
+void World::Impl::add_force(BodyId id, const Vec3& force) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   if (!is_dynamic(i)) return;
   wake_island(i);
   states_[i].force += force;
 }
 
-void World::add_force_at_point(BodyId id, const Vec3& force, const Vec3& world_point) {
+void World::Impl::add_force_at_point(BodyId id, const Vec3& force, const Vec3& world_point) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   if (!is_dynamic(i)) return;
   wake_island(i);
@@ -400,25 +400,25 @@ void World::add_force_at_point(BodyId id, const Vec3& force, const Vec3& world_p
   state.torque += (world_point - state.position).cross(force);
 }
 
-void World::add_torque(BodyId id, const Vec3& torque) {
+void World::Impl::add_torque(BodyId id, const Vec3& torque) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   if (!is_dynamic(i)) return;
   wake_island(i);
   states_[i].torque += torque;
 }
 
-const Vec3& World::accumulated_force(BodyId id) const { return states_[dense_index(id)].force; }
+const Vec3& World::Impl::accumulated_force(BodyId id) const { return states_[dense_index(id)].force; }
 
-const Vec3& World::accumulated_torque(BodyId id) const { return states_[dense_index(id)].torque; }
+const Vec3& World::Impl::accumulated_torque(BodyId id) const { return states_[dense_index(id)].torque; }
 
-void World::apply_impulse(BodyId id, const Vec3& impulse) {
+void World::Impl::apply_impulse(BodyId id, const Vec3& impulse) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   if (!is_dynamic(i)) return;
   wake_island(i);
   states_[i].linear_momentum += impulse;
 }
 
-void World::apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& world_point) {
+void World::Impl::apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& world_point) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   if (!is_dynamic(i)) return;
   wake_island(i);
@@ -428,12 +428,12 @@ void World::apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& w
   state.angular_momentum += (world_point - state.position).cross(impulse);
 }
 
-void World::set_next_body_id(BodyId next) {
+void World::Impl::set_next_body_id(BodyId next) {
   assert(next >= id_to_dense_.size() && next != kInvalidBodyId);
   id_to_dense_.resize(next, kNoIndex);
 }
 
-void World::restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
+void World::Impl::restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
                           const Vec3& angular_momentum, bool awake, double sleep_time) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   BodyState& state = states_[i];
@@ -456,31 +456,31 @@ void World::restore_state(BodyId id, const Vec3& position, const Quat& orientati
   set_box(i, shape_aabb(i));
 }
 
-double World::sleep_time(BodyId id) const { return records_[dense_index(id)].sleep_time; }
+double World::Impl::sleep_time(BodyId id) const { return records_[dense_index(id)].sleep_time; }
 
-void World::wake(BodyId id) { wake_island(static_cast<std::uint32_t>(dense_index(id))); }
+void World::Impl::wake(BodyId id) { wake_island(static_cast<std::uint32_t>(dense_index(id))); }
 
-bool World::is_awake(BodyId id) const { return awake_[dense_index(id)] != 0; }
+bool World::Impl::is_awake(BodyId id) const { return awake_[dense_index(id)] != 0; }
 
-std::size_t World::awake_body_count() const {
+std::size_t World::Impl::awake_body_count() const {
   std::size_t n = 0;
   for (const std::uint8_t awake : awake_) n += awake;
   return n;
 }
 
-std::size_t World::sleeping_body_count() const {
+std::size_t World::Impl::sleeping_body_count() const {
   std::size_t n = 0;
   for (std::size_t i = 0; i < records_.size(); ++i) n += is_dynamic(i) && !awake_[i] ? 1u : 0u;
   return n;
 }
 
-std::size_t World::contact_count() const {
+std::size_t World::Impl::contact_count() const {
   std::size_t n = 0;
   for (const ContactLink& link : links_) n += link.alive && link.touching ? 1 : 0;
   return n;
 }
 
-std::size_t World::contact_point_count() const {
+std::size_t World::Impl::contact_point_count() const {
   std::size_t n = 0;
   for (std::size_t k = 0; k < contacts_.size(); ++k) {
     n += links_[k].alive ? static_cast<std::size_t>(contacts_[k].manifold.point_count) : 0;
@@ -488,7 +488,7 @@ std::size_t World::contact_point_count() const {
   return n;
 }
 
-double World::max_penetration() const {
+double World::Impl::max_penetration() const {
   double deepest = 0;
   for (std::size_t slot = 0; slot < contacts_.size(); ++slot) {
     if (!links_[slot].alive) continue;

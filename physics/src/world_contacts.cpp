@@ -11,7 +11,8 @@
 #include <cmath>
 
 #include "collide.h"
-#include "tumble/physics/world.h"
+#include "run_tasks.h"
+#include "world_impl.h"
 
 namespace tumble::physics {
 namespace {
@@ -46,13 +47,13 @@ double lowest_height(const Aabb& box, const Vec3& n, double offset) {
 
 }  // namespace
 
-bool World::can_collide(std::size_t a, std::size_t b) const {
+bool World::Impl::can_collide(std::size_t a, std::size_t b) const {
   if (a == b) return false;
   if (shapes_[a].type == ShapeType::none || shapes_[b].type == ShapeType::none) return false;
   return is_dynamic(a) || is_dynamic(b);
 }
 
-bool World::has_contact(std::uint32_t a, std::uint32_t b) const {
+bool World::Impl::has_contact(std::uint32_t a, std::uint32_t b) const {
   // Walk the shorter of the two lists.
   if (records_[b].contact_count < records_[a].contact_count) std::swap(a, b);
   for (ContactKey key = records_[a].contact_head; key != kNullContactKey;) {
@@ -64,7 +65,7 @@ bool World::has_contact(std::uint32_t a, std::uint32_t b) const {
   return false;
 }
 
-void World::create_contact(std::uint32_t a, std::uint32_t b) {
+void World::Impl::create_contact(std::uint32_t a, std::uint32_t b) {
   if (collide_order(shapes_[a].type) > collide_order(shapes_[b].type)) std::swap(a, b);  // body_a first
   std::uint32_t slot;
   if (free_contacts_.empty()) {
@@ -93,7 +94,7 @@ void World::create_contact(std::uint32_t a, std::uint32_t b) {
   }
 }
 
-void World::destroy_contact(std::uint32_t slot) {
+void World::Impl::destroy_contact(std::uint32_t slot) {
   ContactLink& link = links_[slot];
   const std::uint32_t bodies[2] = {link.body_a, link.body_b};
   for (std::uint32_t side = 0; side < 2; ++side) {
@@ -113,7 +114,7 @@ void World::destroy_contact(std::uint32_t slot) {
   free_contacts_.push_back(slot);
 }
 
-void World::destroy_contacts_of(std::uint32_t body, bool wake_others) {
+void World::Impl::destroy_contacts_of(std::uint32_t body, bool wake_others) {
   while (records_[body].contact_head != kNullContactKey) {
     const ContactKey key = records_[body].contact_head;
     const ContactLink& link = links_[key >> 1];
@@ -123,7 +124,7 @@ void World::destroy_contacts_of(std::uint32_t body, bool wake_others) {
   }
 }
 
-void World::relabel_body(std::uint32_t from, std::uint32_t to) {
+void World::Impl::relabel_body(std::uint32_t from, std::uint32_t to) {
   for (ContactKey key = records_[from].contact_head; key != kNullContactKey;) {
     ContactLink& link = links_[key >> 1];
     const std::uint32_t side = key & 1;
@@ -137,11 +138,11 @@ void World::relabel_body(std::uint32_t from, std::uint32_t to) {
   std::replace(planes_.begin(), planes_.end(), from, to);
 }
 
-void World::wake_overlapping(const Aabb& box) {
+void World::Impl::wake_overlapping(const Aabb& box) {
   movable_tree_.query(box, [&](std::uint32_t other) { wake_island(other); });
 }
 
-void World::update_broadphase(double dt) {
+void World::Impl::update_broadphase(double dt) {
   moved_.clear();
   const double half_margin = 0.5 * settings_.contact_margin;
   for (std::uint32_t i = 0; i < records_.size(); ++i) {
@@ -192,7 +193,7 @@ void World::update_broadphase(double dt) {
   }
 }
 
-void World::update_contacts() {
+void World::Impl::update_contacts() {
   active_.clear();
   woken_.clear();
   ++contact_pass_;
@@ -214,16 +215,17 @@ void World::update_contacts() {
     updating_.push_back(slot);
   }
   updates_.resize(updating_.size());
-  // Their narrowphase, in tasks of consecutive pairs on the team's threads;
-  // each writes only its own pairs, so the outcome does not depend on the
-  // thread count.
+  // Their narrowphase, in tasks of consecutive pairs on the task system's
+  // threads; each writes only its own pairs, so the outcome does not depend
+  // on the thread count or the task system.
   const std::size_t tasks = (updating_.size() + kPairsPerTask - 1) / kPairsPerTask;
   auto update_pairs = [this](std::size_t task) {
     const std::size_t end = std::min(updating_.size(), (task + 1) * kPairsPerTask);
     for (std::size_t k = task * kPairsPerTask; k < end; ++k) updates_[k] = update_contact(updating_[k]);
   };
-  if (team_ && team_->thread_count() > 1 && tasks > 1) {
-    team_->for_each(tasks, update_pairs);
+  TaskSystem* task_system = this->tasks();
+  if (task_system != nullptr && task_system->thread_count() > 1 && tasks > 1) {
+    run_tasks(*task_system, tasks, update_pairs);
   } else {
     for (std::size_t task = 0; task < tasks; ++task) update_pairs(task);
   }
@@ -243,7 +245,7 @@ void World::update_contacts() {
   collecting_woken_ = false;
 }
 
-std::uint8_t World::update_contact(std::uint32_t slot) {
+std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
   const double half_margin = 0.5 * settings_.contact_margin;
   ContactLink& link = links_[slot];
   const std::uint32_t a = link.body_a, b = link.body_b;
@@ -295,7 +297,7 @@ std::uint8_t World::update_contact(std::uint32_t slot) {
   return update;
 }
 
-void World::finish_contact_update(std::uint32_t slot, std::uint8_t update) {
+void World::Impl::finish_contact_update(std::uint32_t slot, std::uint8_t update) {
   if (update & kContactDestroy) {
     destroy_contact(slot);
     return;
@@ -310,7 +312,7 @@ void World::finish_contact_update(std::uint32_t slot, std::uint8_t update) {
   active_.push_back(slot);
 }
 
-bool World::update_manifold(Contact& c, std::uint32_t index) {
+bool World::Impl::update_manifold(Contact& c, std::uint32_t index) {
   const std::uint32_t a = links_[index].body_a, b = links_[index].body_b;
   const Transform& ta = transforms_[a];
   const Transform& tb = transforms_[b];

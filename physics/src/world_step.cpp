@@ -3,7 +3,7 @@
 
 #include "integrator.h"
 #include "rotation.h"
-#include "tumble/physics/world.h"
+#include "world_impl.h"
 
 namespace tumble::physics {
 namespace {
@@ -22,7 +22,7 @@ int substeps_for(double dt) {
 
 }  // namespace
 
-void World::step(double dt) {
+void World::Impl::step(double dt) {
   stats_ = StepStats{};
   if (!(dt > 0)) {
     for (BodyState& state : states_) {
@@ -39,7 +39,7 @@ void World::step(double dt) {
   update_sleep(dt);
 }
 
-void World::integrate_velocities(double dt) {
+void World::Impl::integrate_velocities(double dt) {
   for (std::size_t i = 0; i < states_.size(); ++i) {
     // Nothing to do for a body at rest: forces only reach dynamic bodies,
     // and adding one wakes the body, so a sleeping, static or still
@@ -65,12 +65,12 @@ void World::integrate_velocities(double dt) {
   }
 }
 
-void World::set_thread_count(int threads) {
+void World::Impl::set_thread_count(int threads) {
   if (threads > 1 && !team_) team_ = std::make_unique<WorkerTeam>();
   if (team_) team_->set_thread_count(threads);
 }
 
-void World::solve_contacts(double dt) {
+void World::Impl::solve_contacts(double dt) {
   ContactSolverSettings solver_settings;
   solver_settings.substeps = settings_.substeps > 0 ? settings_.substeps : substeps_for(dt);
   solver_settings.iterations = settings_.velocity_iterations;
@@ -88,7 +88,7 @@ void World::solve_contacts(double dt) {
   stats_.islands = solver_.island_count();
   if (solver_.constraint_count() == 0) return;
 
-  solver_.solve(velocities_, team_.get());
+  solver_.solve(velocities_, tasks());
 
   // Back to Baraff's state: P = M v and L = I w with I = R I_body R^T.
   for (std::uint32_t i : solver_.touched_bodies()) {
@@ -99,7 +99,7 @@ void World::solve_contacts(double dt) {
   }
 }
 
-void World::integrate_positions(double dt) {
+void World::Impl::integrate_positions(double dt) {
   // The solver's correction first: it moves the pose towards the motion of
   // the substeps and never touches the momenta.
   if (solver_.constraint_count() > 0) {

@@ -13,19 +13,19 @@
 // integrator.h for the time-stepping scheme. One step (world_step.cpp):
 //   1. gravity and accumulated forces change the momenta P and L of awake
 //      dynamic bodies; v = P / M, w = I^-1 L;
-//   2. broadphase (broadphase in world_contacts.cpp): each awake body's AABB,
+//   2. broadphase (src/world_contacts.cpp): each awake body's AABB,
 //      grown by the distance it can travel this step, is checked against its
 //      fat box in a DynamicTree; boxes that escaped are replaced and queried
 //      for new pairs; planes are tested against every awake body's box;
-//   3. narrowphase (collide.h) updates each pair with an awake body, in
+//   3. narrowphase (src/collide.h) updates each pair with an awake body, in
 //      parallel; then, in slot order, pairs that no longer overlap are
 //      destroyed and touching a sleeping body wakes its island;
-//   4. sequential impulses in substeps (contact_solver.h) change v and w;
+//   4. sequential impulses in substeps (src/contact_solver.h) change v and w;
 //      then P = M v and L = I w;
-//   5. positions and orientations advance from P and L (integrator.h), plus
+//   5. positions and orientations advance from P and L (src/integrator.h), plus
 //      the solver's correction towards its substep motion;
 //   6. islands of bodies connected by touching contacts that have all been
-//      slow for time_to_sleep fall asleep (island.cpp).
+//      slow for time_to_sleep fall asleep (src/island.cpp).
 //
 // Static bodies never move; kinematic bodies move with their set velocity
 // and are not affected by anything; both have infinite mass. mass(),
@@ -33,93 +33,36 @@
 //
 // Deterministic: the same sequence of calls gives bit-identical results
 // (no unordered containers, no pointer-keyed ordering), whatever the thread
-// count.
+// count or task system.
 //
 // Threads: step() may run the narrowphase's pairs and solve the contact
-// groups on helper threads (set_thread_count, worker_team.h); it returns
-// when they are done. Not
+// groups on helper threads (set_thread_count) or on the embedder's
+// (set_task_system, task_system.h); it returns when they are done. Not
 // thread-safe otherwise: one thread owns a World. Accessors that take a BodyId
 // require a valid one (contains(id)); that is asserted, not reported.
 // step() does not allocate once the arrays have grown to the scene.
 #pragma once
 
 #include <cstddef>
-#include <cstdint>
 #include <memory>
-#include <vector>
 
-#include "aabb.h"
-#include "body_state.h"
-#include "contact.h"
-#include "contact_solver.h"
-#include "dynamic_tree.h"
-#include "transform.h"
 #include "tumble/physics/body.h"
 #include "tumble/physics/math.h"
 #include "tumble/physics/shape.h"
-#include "worker_team.h"
+#include "tumble/physics/step_stats.h"
+#include "tumble/physics/task_system.h"
+#include "tumble/physics/world_settings.h"
 
 namespace tumble::physics {
-
-// The default number of substeps (WorldSettings::substeps): at least
-// kSubstepRate a second and at least kMinSubsteps a step.
-inline constexpr double kSubstepRate = 240;  // Hz
-inline constexpr int kMinSubsteps = 2;
-
-// Tuning of the collision pipeline and the solver. The defaults suit bodies
-// of about 0.1 m to 10 m at 60 to 240 steps per second.
-struct WorldSettings {
-  // The contact solver (contact_solver.h) splits each step into substeps;
-  // each substep makes `velocity_iterations` soft passes over the contact
-  // rows and `relax_iterations` rigid ones. substeps = 0 (the default) takes
-  // enough that a substep is at most 1/kSubstepRate s, and at least
-  // kMinSubsteps (at most 64): 4 at 60 steps per second (Box2D v3's default), 2 at 120
-  // and at 240. A faster step rate then costs little more solver work a
-  // second while the narrowphase runs more often. Measured on a 210-box
-  // pyramid over 10 s (largest displacement) and the top of a ten-box
-  // column over 30 s (drift): 60 Hz x 4, 33 mm and 3.4 mm; 240 Hz x 2,
-  // 8.2 mm and 0.7 mm; 240 Hz x 1, 31 mm and 3.8 mm; 240 Hz x 4, 2.1 mm and
-  // under 0.1 mm at twice the solver work of x 2. Any other value: exactly
-  // that many.
-  int substeps = 0;
-  int velocity_iterations = 1;
-  int relax_iterations = 1;
-  // Frequency of the spring that pushes overlapping bodies apart (Hz); 0
-  // means an eighth of the substep rate (Box2D's 30 Hz at 60 steps of 4
-  // substeps; 60 Hz at 240 steps of 2), which keeps the push equally stiff
-  // relative to the substep whatever the rates. The solver caps it at a
-  // quarter of the substep rate.
-  double contact_hertz = 0;
-  double contact_damping_ratio = 10;   // of that push
-  double max_push_speed = 3;           // m/s: the push never separates faster
-  double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
-  // Every pair gets contact points up to this separation (m), plus the
-  // distance the two bodies can close within the step (speculative contacts).
-  double contact_margin = 0.02;
-  double aabb_margin = 0.1;  // m: fat boxes in the broadphase tree
-  bool sleep_enabled = true;
-  // A body is slow when |v| and |w| times its bounding radius are both
-  // below sleep_speed; an island sleeps when all its bodies have been slow for
-  // time_to_sleep. Only islands that touch something sleep: a free body keeps
-  // drifting however slowly it moves.
-  double sleep_speed = 0.05;   // m/s
-  double time_to_sleep = 0.5;  // s
-};
-
-// Counters of the last step, for diagnostics and tests.
-struct StepStats {
-  std::size_t integrated_bodies = 0;    // awake dynamic and moving kinematic bodies advanced
-  std::size_t moved_proxies = 0;        // fat boxes replaced in the broadphase
-  std::size_t narrowphase_pairs = 0;    // contacts whose manifold was updated (computed or reused)
-  std::size_t manifolds_computed = 0;   // of those, recomputed from the shapes
-  std::size_t solved_contacts = 0;      // manifolds with points given to the solver
-  std::size_t solved_points = 0;        // their points
-  std::size_t islands = 0;              // groups of those that share no dynamic body, solved apart
-};
 
 class World {
  public:
   World();
+  ~World();
+  World(World&&) noexcept;
+  World& operator=(World&&) noexcept;
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
 
   // Gravitational acceleration applied to every body (m/s^2). Default
   // (0, -9.81, 0). Changing it wakes every body.
@@ -127,14 +70,20 @@ class World {
   const Vec3& gravity() const;
 
   void set_settings(const WorldSettings& settings);
-  const WorldSettings& settings() const { return settings_; }
+  const WorldSettings& settings() const;
 
   // Threads step() solves contact groups on, the caller included (1, the
   // default: the caller alone). Each group is solved the same way on any
   // thread, so the results are bit-identical for every count. Starts or
   // stops helper threads, which sleep between steps.
   void set_thread_count(int threads);
-  int thread_count() const { return team_ ? team_->thread_count() : 1; }
+  // Runs step()'s parallel phases on the embedder's threads instead
+  // (task_system.h states the contract); not owned, and it must outlive its
+  // use. nullptr goes back to the helpers of set_thread_count. Results are
+  // bit-identical for every task system.
+  void set_task_system(TaskSystem* tasks);
+  // Threads step() runs on: the task system's count when one is set.
+  int thread_count() const;
 
   // Creates a body and returns its new id. A dynamic body requires mass > 0
   // and a symmetric positive-definite inertia (asserted). The orientation is
@@ -148,7 +97,7 @@ class World {
   BodyId add_body_with_id(const BodyDesc& desc, BodyId id);
   // The id the next add_body hands out; set_next_body_id raises it (never
   // lowers it), so a restored world keeps the ids of removed bodies unused.
-  BodyId next_body_id() const { return static_cast<BodyId>(id_to_dense_.size()); }
+  BodyId next_body_id() const;
   void set_next_body_id(BodyId next);
   // Puts back a body's saved state bit-exactly, right after it was created
   // with add_body_with_id from a desc with the same pose: its pose (orientation taken as given, a unit
@@ -232,141 +181,17 @@ class World {
   // Deepest overlap among the current manifold points (m), 0 when none
   // overlaps.
   double max_penetration() const;
-  const StepStats& last_step_stats() const { return stats_; }
+  const StepStats& last_step_stats() const;
 
   // Advances every body by dt seconds. A dt <= 0 only clears the force and
   // torque accumulators.
   void step(double dt);
 
  private:
-  // Marks a removed id in id_to_dense_.
-  static constexpr std::uint32_t kNoIndex = 0xffffffff;
-
-  // Collision and sleep bookkeeping of one body.
-  struct BodyRecord {
-    MotionType motion_type = MotionType::dynamic_body;
-    bool moved = false;    // fat box replaced in this step's broadphase
-    bool visited = false;  // reached by this step's island search
-    double sleep_time = 0;       // s spent slower than sleep_speed
-    double bounding_radius = 0;  // m, of the shape about the centre of mass
-    double reach = 0;            // m the body can travel this step (0 unless awake_)
-    Vec3 kinematic_linear_velocity = Vec3::Zero();
-    Vec3 kinematic_angular_velocity = Vec3::Zero();
-    std::int32_t proxy = DynamicTree::kNull;  // leaf in static_tree_ or movable_tree_
-    ContactKey contact_head = kNullContactKey;
-    std::uint32_t contact_count = 0;
-  };
-
-  std::size_t dense_index(BodyId id) const;
-  bool is_dynamic(std::size_t i) const { return records_[i].motion_type == MotionType::dynamic_body; }
-
-  // Body helpers (world.cpp).
-  Aabb shape_aabb(std::size_t i) const;
-  // Writes aabbs_[i], stamping box_passes_[i] when the box changed.
-  void set_box(std::size_t i, const Aabb& box);
-  void refresh_solver_data(std::size_t i);
-  void set_kinematic_awake(std::size_t i);
-  // linear_velocity() and angular_velocity() of the body at dense index i.
-  Vec3 linear_velocity_at(std::size_t i) const;
-  Vec3 angular_velocity_at(std::size_t i) const;
-
-  // Contacts and collision (world_contacts.cpp).
-  bool can_collide(std::size_t a, std::size_t b) const;
-  bool has_contact(std::uint32_t a, std::uint32_t b) const;
-  void create_contact(std::uint32_t a, std::uint32_t b);
-  void destroy_contact(std::uint32_t c);
-  void destroy_contacts_of(std::uint32_t body, bool wake_others);
-  void relabel_body(std::uint32_t from, std::uint32_t to);
-  void update_broadphase(double dt);
-  void update_contacts();
-  // True when the pair was apart when last updated and neither step box has
-  // changed since: neither the fat boxes (they move only when a step box
-  // leaves them) nor the answer can have changed.
-  bool still_apart(const ContactLink& link) const {
-    return link.apart && box_passes_[link.body_a] <= link.updated_pass && box_passes_[link.body_b] <= link.updated_pass;
-  }
-  // The narrowphase of one pair: refreshes its manifold and its link's
-  // flags, and says what the world must do about it (ContactUpdate bits,
-  // world_contacts.cpp). Writes only links_[slot] and contacts_[slot], so
-  // pairs may be updated on several threads at once.
-  std::uint8_t update_contact(std::uint32_t slot);
-  // What update_contact() left to do, on the owning thread: destroys the
-  // pair or, when it touches, wakes its bodies and lists it in active_.
-  void finish_contact_update(std::uint32_t slot, std::uint8_t update);
-  // Returns true when the manifold was computed afresh, false when reused.
-  bool update_manifold(Contact& contact, std::uint32_t index);
-  void wake_overlapping(const Aabb& box);
-
-  // Step phases (world_step.cpp).
-  void integrate_velocities(double dt);
-  void solve_contacts(double dt);
-  void integrate_positions(double dt);
-
-  // Sleep (island.cpp).
-  void update_sleep(double dt);
-  void wake_island(std::uint32_t body);
-  void put_to_sleep(std::uint32_t body);
-
-  WorldSettings settings_;
-  Vec3 gravity_;
-
-  // Dense arrays, one entry per live body, all in the same order.
-  std::vector<BodyState> states_;
-  std::vector<BodyMass> masses_;
-  std::vector<Shape> shapes_;
-  std::vector<BodyId> dense_to_id_;
-  std::vector<BodyRecord> records_;
-  std::vector<Transform> transforms_;       // pose with R(q), current for every body
-  std::vector<SolverVelocity> velocities_;  // v, w of the step (zero for static and sleeping bodies)
-  std::vector<SolverVelocity> external_;    // change of v, w from gravity and forces this step
-  std::vector<Mat3> inverse_inertia_;       // world frame, of the step (zero unless awake dynamic)
-  std::vector<double> inverse_masses_;      // 1/M for dynamic bodies, else 0
-  std::vector<double> frictions_;
-  std::vector<double> restitutions_;
-  std::vector<Aabb> aabbs_;                 // box grown by reach, this step (awake bodies)
-  // 1 while the body is stepped: dynamic and not asleep, or kinematic and
-  // moving. Apart from the records so that the passes over every body that
-  // skip those at rest read a byte a body, not a record (a world of 10,000
-  // mostly sleeping bodies: 10 kB a pass instead of 1.1 MB).
-  std::vector<std::uint8_t> awake_;
-  // The contact pass (contact_pass_) that first sees aabbs_[i] as it is:
-  // a contact updated in a later pass has seen this box (set_box).
-  std::vector<std::uint64_t> box_passes_;
-
-  // Indexed by id; kNoIndex once removed. Its size is the next id to hand out.
-  std::vector<std::uint32_t> id_to_dense_;
-
-  std::vector<std::uint32_t> planes_;  // dense indices of the plane bodies
-
-  // Broadphase: static bodies in one tree, dynamic and kinematic in another.
-  DynamicTree static_tree_;
-  DynamicTree movable_tree_;
-  std::vector<std::uint32_t> moved_;
-
-  // Contacts: slots with a free list; active_ lists those touching this
-  // step. links_[k] is the hot part of contacts_[k] (contact.h).
-  std::vector<Contact> contacts_;
-  std::vector<ContactLink> links_;
-  std::vector<std::uint32_t> free_contacts_;
-  std::vector<std::uint32_t> active_;
-  // Scratch of update_contacts(): the slots updated in parallel and what
-  // each asks for (ContactUpdate bits), index for index.
-  std::vector<std::uint32_t> updating_;
-  std::vector<std::uint8_t> updates_;
-  std::uint64_t contact_pass_ = 0;  // counts update_contacts() calls; see ContactLink::updated_pass
-
-  ContactSolver solver_;
-  // Helper threads, made by the first set_thread_count above 1; behind a
-  // pointer so the World stays movable while the helpers keep their team.
-  std::unique_ptr<WorkerTeam> team_;
-
-  // Island search scratch.
-  std::vector<std::uint32_t> island_stack_;
-  std::vector<std::uint32_t> island_members_;
-  std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
-  bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
-
-  StepStats stats_;
+  // The bodies, broadphase trees, contacts, solver and helper threads
+  // (src/world_impl.h).
+  class Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 }  // namespace tumble::physics
