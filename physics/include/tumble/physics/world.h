@@ -10,7 +10,7 @@
 // Units are SI and every vector is in the world frame unless a name says
 // otherwise. The dynamics follow Baraff, "An Introduction to Physically Based
 // Modeling: Rigid Body Simulation I" (SIGGRAPH course notes); see
-// integrator.h for the time-stepping scheme. One step (world_step.cpp):
+// src/integrator.h for the time-stepping scheme. One step (src/world_step.cpp):
 //   1. gravity and accumulated forces change the momenta P and L of awake
 //      dynamic bodies; v = P / M, w = I^-1 L;
 //   2. broadphase (src/world_contacts.cpp): each awake body's AABB,
@@ -59,7 +59,7 @@ class World {
  public:
   World();
   ~World();
-  World(World&&) noexcept;
+  World(World&&) noexcept;  // the moved-from World may only be assigned to or destroyed
   World& operator=(World&&) noexcept;
   World(const World&) = delete;
   World& operator=(const World&) = delete;
