@@ -3,8 +3,8 @@
 #include <vector>
 
 #include "engine.h"
-#include "physics/mass_properties.h"
-#include "physics/world.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::bench {
 namespace {

@@ -1,15 +1,3 @@
-# tumble_warnings(target): the project's warning set, fatal with TUMBLE_WERROR.
-function(tumble_warnings target)
-  target_compile_options(${target} PRIVATE
-    -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
-    -Wcast-align -Woverloaded-virtual -Wconversion -Wsign-conversion
-    -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
-  # GCC 12 reports a false -Wrestrict inside libstdc++ for
-  # `"literal" + std::string&&` at -O2 (GCC bug 105329, fixed in 13).
-  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
-    target_compile_options(${target} PRIVATE -Wno-restrict)
-  endif()
-  if(TUMBLE_WERROR)
-    target_compile_options(${target} PRIVATE -Werror)
-  endif()
-endfunction()
+# tumble_warnings(target): the physics project's warning set (one list of
+# flags for the whole tree), fatal with TUMBLE_WERROR.
+include(${CMAKE_CURRENT_LIST_DIR}/../physics/cmake/TumbleWarnings.cmake)

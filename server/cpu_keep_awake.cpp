@@ -10,7 +10,7 @@
 #include <string>
 #include <utility>
 
-#include "physics/cpu_relax.h"
+#include "cpu_relax.h"
 
 namespace tumble {
 namespace {

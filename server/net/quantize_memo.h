@@ -19,8 +19,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/body.h"
 #include "sim/snapshot.h"
+#include "tumble/physics/body.h"
 #include "wire/quantized_poses.h"
 
 namespace tumble::net {

@@ -7,7 +7,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "physics/body.h"
+#include "tumble/physics/body.h"
 #include "tumble/v1/protocol.pb.h"
 
 namespace tumble::sim {

@@ -14,7 +14,7 @@
 #include <limits>
 #include <vector>
 
-#include "physics/world.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::sim {
 

@@ -5,9 +5,9 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "physics/convex_hull.h"
-#include "physics/mass_properties.h"
-#include "physics/shape.h"
+#include "tumble/physics/convex_hull.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/shape.h"
 
 namespace tumble::sim {
 namespace {

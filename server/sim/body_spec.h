@@ -8,8 +8,8 @@
 
 #include <string>
 
-#include "physics/body.h"
 #include "sim/status.h"
+#include "tumble/physics/body.h"
 #include "tumble/v1/scene.pb.h"
 
 namespace tumble::sim {

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "physics/body.h"
+#include "tumble/physics/body.h"
 #include "tumble/v1/protocol.pb.h"
 
 namespace tumble::sim {

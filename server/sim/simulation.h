@@ -38,7 +38,6 @@
 #include <string>
 #include <vector>
 
-#include "physics/world.h"
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
 #include "sim/command.h"
@@ -52,6 +51,7 @@
 #include "sim/tick_loop.h"
 #include "sim/tick_timing.h"
 #include "sim/world_event.h"
+#include "tumble/physics/world.h"
 #include "tumble/v1/scene.pb.h"
 #include "tumble/v1/state.pb.h"
 

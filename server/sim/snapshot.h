@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/body.h"
+#include "tumble/physics/body.h"
 
 namespace tumble::sim {
 

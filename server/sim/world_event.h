@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/body.h"
+#include "tumble/physics/body.h"
 
 namespace tumble::sim {
 

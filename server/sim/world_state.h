@@ -12,10 +12,10 @@
 // Thread: the sim thread, which owns the world, directory and loads.
 #pragma once
 
-#include "physics/world.h"
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
 #include "sim/status.h"
+#include "tumble/physics/world.h"
 #include "tumble/v1/state.pb.h"
 
 namespace tumble::sim {

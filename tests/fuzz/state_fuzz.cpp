@@ -7,10 +7,10 @@
 #include <cstdint>
 
 #include "quiet_logs.h"
-#include "physics/world.h"
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
 #include "sim/world_state.h"
+#include "tumble/physics/world.h"
 #include "tumble/v1/state.pb.h"
 
 namespace {

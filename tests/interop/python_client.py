@@ -11,7 +11,7 @@ The run: start tumbled on scenes/demo.json (no gravity, a 2 kg crate at
 rest at the origin, the ball 3 m along +x), Hello, Subscribe to the crate,
 ApplyForce 10 N along +x for half a second of ticks, and read PoseFrames
 until a while after the force has ended: every frame must show the crate
-where the engine's semi-implicit Euler step puts it (server/physics/
+where the engine's semi-implicit Euler step puts it (physics/src/
 integrator.h), ending at 2.5 m/s and about 0.94 m, short of the ball.
 
   python_client.py --tumbled PATH --scene scenes/demo.json --pb-dir DIR

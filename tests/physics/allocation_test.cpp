@@ -14,10 +14,10 @@
 #include <new>
 #include <vector>
 
-#include "physics/convex_hull.h"
-#include "physics/mass_properties.h"
-#include "physics/world.h"
 #include "scene_helpers.h"
+#include "tumble/physics/convex_hull.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/world.h"
 
 namespace {
 

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "physics/integrator.h"
-#include "physics/mass_properties.h"
-#include "physics/rotation.h"
-#include "physics/world.h"
+#include "integrator.h"
+#include "rotation.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

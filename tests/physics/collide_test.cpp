@@ -4,7 +4,7 @@
 // reduced from eight); edge-edge contacts; the speculative margin for every
 // pair kind; geometric invariants over random box poses; and feature ids
 // that stay with the same corners under small motions.
-#include "physics/collide.h"
+#include "collide.h"
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "geometry_helpers.h"
-#include "physics/convex_hull.h"
-#include "physics/shape.h"
+#include "tumble/physics/convex_hull.h"
+#include "tumble/physics/shape.h"
 
 namespace tumble::physics {
 namespace {

@@ -3,7 +3,7 @@
 // formula V - E + F = 2 and containment of every input point on random
 // clouds, degenerate inputs rejected, and hull mass properties against the
 // closed forms of the box, tetrahedron and octahedron.
-#include "physics/convex_hull.h"
+#include "tumble/physics/convex_hull.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "geometry_helpers.h"
-#include "physics/mass_properties.h"
+#include "tumble/physics/mass_properties.h"
 
 namespace tumble::physics {
 namespace {

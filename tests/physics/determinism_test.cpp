@@ -6,9 +6,9 @@
 #include <cmath>
 #include <cstdint>
 
-#include "physics/rotation.h"
-#include "physics/world.h"
+#include "rotation.h"
 #include "scene_helpers.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

@@ -2,7 +2,7 @@
 // boxes overlap the query box, compared with a brute-force scan over 500
 // random boxes through rounds of inserts, moves and removes; and the tree
 // stays as shallow as an AVL tree, also when boxes arrive in sorted order.
-#include "physics/dynamic_tree.h"
+#include "dynamic_tree.h"
 
 #include <gtest/gtest.h>
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "physics/world.h"
 #include "scene_helpers.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

@@ -12,11 +12,11 @@
 #include <span>
 #include <vector>
 
-#include "physics/convex_hull.h"
-#include "physics/manifold.h"
-#include "physics/mass_properties.h"
-#include "physics/math.h"
-#include "physics/transform.h"
+#include "manifold.h"
+#include "transform.h"
+#include "tumble/physics/convex_hull.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/math.h"
 
 namespace tumble::physics::testing {
 

@@ -3,7 +3,7 @@
 // separations against analytic gaps, a box built as a hull colliding exactly
 // like a box shape, and hulls dropped on the ground resting on a face at the
 // analytic height.
-#include "physics/gjk.h"
+#include "gjk.h"
 
 #include <gtest/gtest.h>
 
@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "collide.h"
 #include "geometry_helpers.h"
-#include "physics/collide.h"
-#include "physics/convex_hull.h"
-#include "physics/segment.h"
-#include "physics/world.h"
 #include "scene_helpers.h"
+#include "segment.h"
+#include "tumble/physics/convex_hull.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "physics/mass_properties.h"
-#include "physics/world.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

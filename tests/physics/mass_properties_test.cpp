@@ -1,5 +1,5 @@
 // Mass properties against closed forms and against sums over point masses.
-#include "physics/mass_properties.h"
+#include "tumble/physics/mass_properties.h"
 
 #include <gtest/gtest.h>
 

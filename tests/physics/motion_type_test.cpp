@@ -2,8 +2,8 @@
 // kinematic ones follow their velocity and push dynamic bodies aside.
 #include <gtest/gtest.h>
 
-#include "physics/world.h"
 #include "scene_helpers.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

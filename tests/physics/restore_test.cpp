@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "physics/world.h"
 #include "scene_helpers.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

@@ -1,12 +1,12 @@
 // The quaternion exponential and tensor change of frame.
-#include "physics/rotation.h"
+#include "rotation.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "physics/mass_properties.h"
+#include "tumble/physics/mass_properties.h"
 
 namespace tumble::physics {
 namespace {

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <cstring>
 
-#include "physics/mass_properties.h"
-#include "physics/world.h"
+#include "tumble/physics/mass_properties.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics::testing {
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <vector>
 
-#include "physics/world.h"
 #include "scene_helpers.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::physics {
 namespace {

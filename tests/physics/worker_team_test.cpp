@@ -16,7 +16,8 @@
 #include <thread>
 #include <vector>
 
-#include "physics/worker_team.h"
+#include "run_tasks.h"
+#include "worker_team.h"
 
 namespace tumble::physics {
 namespace {
@@ -27,7 +28,7 @@ std::vector<int> run_jobs(WorkerTeam& team, std::size_t count, int jobs) {
   std::vector<int> hits(count, 0);
   for (int job = 0; job < jobs; ++job) {
     auto task = [&](std::size_t i) { ++hits[i]; };  // slots are disjoint: no two tasks share one
-    team.for_each(count, task);
+    run_tasks(team, count, task);
   }
   return hits;
 }
@@ -57,7 +58,7 @@ TEST(WorkerTeamTest, BackToBackJobsNeverMixUp) {
     const std::size_t count = 1 + static_cast<std::size_t>(job % 16);
     for (std::size_t i = 0; i < count; ++i) hits[i].store(0, std::memory_order_relaxed);
     auto task = [&](std::size_t i) { hits[i].fetch_add(1, std::memory_order_relaxed); };
-    team.for_each(count, task);
+    run_tasks(team, count, task);
     for (std::size_t i = 0; i < count; ++i) ASSERT_EQ(hits[i].load(), 1) << "job " << job << " task " << i;
   }
 }
@@ -74,7 +75,7 @@ TEST(WorkerTeamTest, HelpersTakeTasks) {
     std::lock_guard lock(mutex);
     runners.insert(std::this_thread::get_id());
   };
-  team.for_each(200, task);
+  run_tasks(team, 200, task);
   EXPECT_EQ(runners.size(), 2u);
   EXPECT_EQ(runners.count(std::this_thread::get_id()), 1u);
 }
@@ -89,7 +90,7 @@ TEST(WorkerTeamTest, OneThreadRunsInOrderOnTheCaller) {
     order.push_back(i);
     on_caller = on_caller && std::this_thread::get_id() == caller;
   };
-  team.for_each(5, task);
+  run_tasks(team, 5, task);
   EXPECT_EQ(order, (std::vector<std::size_t>{0, 1, 2, 3, 4}));
   EXPECT_TRUE(on_caller);
 }

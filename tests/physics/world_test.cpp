@@ -1,5 +1,5 @@
 // Body bookkeeping: ids, dense order, removal, and state accessors.
-#include "physics/world.h"
+#include "tumble/physics/world.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 #include <cstddef>
 #include <vector>
 
-#include "physics/mass_properties.h"
-#include "physics/rotation.h"
+#include "rotation.h"
 #include "scene_helpers.h"
+#include "tumble/physics/mass_properties.h"
 
 namespace tumble::physics {
 namespace {

@@ -3,9 +3,9 @@
 
 #include <memory>
 
-#include "physics/convex_hull.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "tumble/physics/convex_hull.h"
 
 namespace tumble::sim {
 namespace {

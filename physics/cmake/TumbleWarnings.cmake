@@ -1,0 +1,19 @@
+# tumble_warnings(target): the project's warning set, fatal with TUMBLE_WERROR.
+# The one list of flags: the physics project uses it alone, and the root
+# project includes this file for every other target.
+option(TUMBLE_WERROR "Treat warnings as errors" OFF)
+
+function(tumble_warnings target)
+  target_compile_options(${target} PRIVATE
+    -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
+    -Wcast-align -Woverloaded-virtual -Wconversion -Wsign-conversion
+    -Wdouble-promotion -Wformat=2 -Wimplicit-fallthrough)
+  # GCC 12 reports a false -Wrestrict inside libstdc++ for
+  # `"literal" + std::string&&` at -O2 (GCC bug 105329, fixed in 13).
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+    target_compile_options(${target} PRIVATE -Wno-restrict)
+  endif()
+  if(TUMBLE_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()

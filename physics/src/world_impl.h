@@ -1,0 +1,224 @@
+// World::Impl: the state and the step pipeline behind World (world.h).
+// Its public methods do what World's methods of the same name do; World
+// forwards to them (world_api.cpp). Defined in world.cpp (bodies and
+// accessors), world_step.cpp (the step), world_contacts.cpp (broadphase and
+// narrowphase) and island.cpp (sleeping).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "aabb.h"
+#include "body_state.h"
+#include "contact.h"
+#include "contact_solver.h"
+#include "dynamic_tree.h"
+#include "transform.h"
+#include "worker_team.h"
+#include "tumble/physics/body.h"
+#include "tumble/physics/math.h"
+#include "tumble/physics/shape.h"
+#include "tumble/physics/step_stats.h"
+#include "tumble/physics/task_system.h"
+#include "tumble/physics/world.h"
+#include "tumble/physics/world_settings.h"
+
+namespace tumble::physics {
+
+class World::Impl {
+ public:
+  Impl();
+
+  void set_gravity(const Vec3& g);
+  const Vec3& gravity() const;
+  void set_settings(const WorldSettings& settings);
+  const WorldSettings& settings() const { return settings_; }
+  void set_thread_count(int threads);
+  void set_task_system(TaskSystem* tasks) { task_system_ = tasks; }
+  int thread_count() const { return tasks() != nullptr ? tasks()->thread_count() : 1; }
+  BodyId add_body(const BodyDesc& desc);
+  BodyId add_body_with_id(const BodyDesc& desc, BodyId id);
+  BodyId next_body_id() const { return static_cast<BodyId>(id_to_dense_.size()); }
+  void set_next_body_id(BodyId next);
+  void restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
+                     const Vec3& angular_momentum, bool awake, double sleep_time);
+  double sleep_time(BodyId id) const;
+  bool remove_body(BodyId id);
+  bool contains(BodyId id) const;
+  std::size_t body_count() const;
+  BodyId body_id_at(std::size_t index) const;
+  const Vec3& position(BodyId id) const;
+  const Quat& orientation(BodyId id) const;
+  Vec3 linear_velocity(BodyId id) const;
+  Vec3 angular_velocity(BodyId id) const;
+  void copy_poses(BodyId* ids, double* positions, double* orientations, double* linear_velocities,
+                  double* angular_velocities) const;
+  const Vec3& linear_momentum(BodyId id) const;
+  const Vec3& angular_momentum(BodyId id) const;
+  double mass(BodyId id) const;
+  Mat3 inertia_world(BodyId id) const;
+  const Mat3& inertia_body(BodyId id) const;
+  const Shape& shape(BodyId id) const;
+  double kinetic_energy(BodyId id) const;
+  MotionType motion_type(BodyId id) const;
+  double friction(BodyId id) const;
+  double restitution(BodyId id) const;
+  void set_friction(BodyId id, double friction);
+  void set_restitution(BodyId id, double restitution);
+  void set_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_velocity,
+                 const Vec3& angular_velocity);
+  void add_force(BodyId id, const Vec3& force);
+  void add_force_at_point(BodyId id, const Vec3& force, const Vec3& world_point);
+  void add_torque(BodyId id, const Vec3& torque);
+  const Vec3& accumulated_force(BodyId id) const;
+  const Vec3& accumulated_torque(BodyId id) const;
+  void apply_impulse(BodyId id, const Vec3& impulse);
+  void apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& world_point);
+  void wake(BodyId id);
+  bool is_awake(BodyId id) const;
+  std::size_t awake_body_count() const;
+  std::size_t sleeping_body_count() const;
+  std::size_t contact_count() const;
+  std::size_t contact_point_count() const;
+  double max_penetration() const;
+  const StepStats& last_step_stats() const { return stats_; }
+  void step(double dt);
+
+ private:
+  // Marks a removed id in id_to_dense_.
+  static constexpr std::uint32_t kNoIndex = 0xffffffff;
+
+  // Collision and sleep bookkeeping of one body.
+  struct BodyRecord {
+    MotionType motion_type = MotionType::dynamic_body;
+    bool moved = false;    // fat box replaced in this step's broadphase
+    bool visited = false;  // reached by this step's island search
+    double sleep_time = 0;       // s spent slower than sleep_speed
+    double bounding_radius = 0;  // m, of the shape about the centre of mass
+    double reach = 0;            // m the body can travel this step (0 unless awake_)
+    Vec3 kinematic_linear_velocity = Vec3::Zero();
+    Vec3 kinematic_angular_velocity = Vec3::Zero();
+    std::int32_t proxy = DynamicTree::kNull;  // leaf in static_tree_ or movable_tree_
+    ContactKey contact_head = kNullContactKey;
+    std::uint32_t contact_count = 0;
+  };
+
+  std::size_t dense_index(BodyId id) const;
+  bool is_dynamic(std::size_t i) const { return records_[i].motion_type == MotionType::dynamic_body; }
+
+  // Body helpers (world.cpp).
+  Aabb shape_aabb(std::size_t i) const;
+  // Writes aabbs_[i], stamping box_passes_[i] when the box changed.
+  void set_box(std::size_t i, const Aabb& box);
+  void refresh_solver_data(std::size_t i);
+  void set_kinematic_awake(std::size_t i);
+  // linear_velocity() and angular_velocity() of the body at dense index i.
+  Vec3 linear_velocity_at(std::size_t i) const;
+  Vec3 angular_velocity_at(std::size_t i) const;
+
+  // Contacts and collision (world_contacts.cpp).
+  bool can_collide(std::size_t a, std::size_t b) const;
+  bool has_contact(std::uint32_t a, std::uint32_t b) const;
+  void create_contact(std::uint32_t a, std::uint32_t b);
+  void destroy_contact(std::uint32_t c);
+  void destroy_contacts_of(std::uint32_t body, bool wake_others);
+  void relabel_body(std::uint32_t from, std::uint32_t to);
+  void update_broadphase(double dt);
+  void update_contacts();
+  // True when the pair was apart when last updated and neither step box has
+  // changed since: neither the fat boxes (they move only when a step box
+  // leaves them) nor the answer can have changed.
+  bool still_apart(const ContactLink& link) const {
+    return link.apart && box_passes_[link.body_a] <= link.updated_pass && box_passes_[link.body_b] <= link.updated_pass;
+  }
+  // The narrowphase of one pair: refreshes its manifold and its link's
+  // flags, and says what the world must do about it (ContactUpdate bits,
+  // world_contacts.cpp). Writes only links_[slot] and contacts_[slot], so
+  // pairs may be updated on several threads at once.
+  std::uint8_t update_contact(std::uint32_t slot);
+  // What update_contact() left to do, on the owning thread: destroys the
+  // pair or, when it touches, wakes its bodies and lists it in active_.
+  void finish_contact_update(std::uint32_t slot, std::uint8_t update);
+  // Returns true when the manifold was computed afresh, false when reused.
+  bool update_manifold(Contact& contact, std::uint32_t index);
+  void wake_overlapping(const Aabb& box);
+
+  // Step phases (world_step.cpp).
+  void integrate_velocities(double dt);
+  void solve_contacts(double dt);
+  void integrate_positions(double dt);
+
+  // Sleep (island.cpp).
+  void update_sleep(double dt);
+  void wake_island(std::uint32_t body);
+  void put_to_sleep(std::uint32_t body);
+
+  WorldSettings settings_;
+  Vec3 gravity_;
+
+  // Dense arrays, one entry per live body, all in the same order.
+  std::vector<BodyState> states_;
+  std::vector<BodyMass> masses_;
+  std::vector<Shape> shapes_;
+  std::vector<BodyId> dense_to_id_;
+  std::vector<BodyRecord> records_;
+  std::vector<Transform> transforms_;       // pose with R(q), current for every body
+  std::vector<SolverVelocity> velocities_;  // v, w of the step (zero for static and sleeping bodies)
+  std::vector<SolverVelocity> external_;    // change of v, w from gravity and forces this step
+  std::vector<Mat3> inverse_inertia_;       // world frame, of the step (zero unless awake dynamic)
+  std::vector<double> inverse_masses_;      // 1/M for dynamic bodies, else 0
+  std::vector<double> frictions_;
+  std::vector<double> restitutions_;
+  std::vector<Aabb> aabbs_;                 // box grown by reach, this step (awake bodies)
+  // 1 while the body is stepped: dynamic and not asleep, or kinematic and
+  // moving. Apart from the records so that the passes over every body that
+  // skip those at rest read a byte a body, not a record (a world of 10,000
+  // mostly sleeping bodies: 10 kB a pass instead of 1.1 MB).
+  std::vector<std::uint8_t> awake_;
+  // The contact pass (contact_pass_) that first sees aabbs_[i] as it is:
+  // a contact updated in a later pass has seen this box (set_box).
+  std::vector<std::uint64_t> box_passes_;
+
+  // Indexed by id; kNoIndex once removed. Its size is the next id to hand out.
+  std::vector<std::uint32_t> id_to_dense_;
+
+  std::vector<std::uint32_t> planes_;  // dense indices of the plane bodies
+
+  // Broadphase: static bodies in one tree, dynamic and kinematic in another.
+  DynamicTree static_tree_;
+  DynamicTree movable_tree_;
+  std::vector<std::uint32_t> moved_;
+
+  // Contacts: slots with a free list; active_ lists those touching this
+  // step. links_[k] is the hot part of contacts_[k] (contact.h).
+  std::vector<Contact> contacts_;
+  std::vector<ContactLink> links_;
+  std::vector<std::uint32_t> free_contacts_;
+  std::vector<std::uint32_t> active_;
+  // Scratch of update_contacts(): the slots updated in parallel and what
+  // each asks for (ContactUpdate bits), index for index.
+  std::vector<std::uint32_t> updating_;
+  std::vector<std::uint8_t> updates_;
+  std::uint64_t contact_pass_ = 0;  // counts update_contacts() calls; see ContactLink::updated_pass
+
+  ContactSolver solver_;
+  // Helper threads, made by the first set_thread_count above 1; behind a
+  // pointer so the helpers keep their team wherever the Impl is.
+  std::unique_ptr<WorkerTeam> team_;
+  TaskSystem* task_system_ = nullptr;  // the embedder's (set_task_system), not owned; used instead of team_
+  // Where step() runs its parallel phases: the embedder's task system, else
+  // the built-in team, else nowhere (every task on the calling thread).
+  TaskSystem* tasks() const { return task_system_ != nullptr ? task_system_ : team_.get(); }
+
+  // Island search scratch.
+  std::vector<std::uint32_t> island_stack_;
+  std::vector<std::uint32_t> island_members_;
+  std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
+  bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
+
+  StepStats stats_;
+};
+
+}  // namespace tumble::physics

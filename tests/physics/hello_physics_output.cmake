@@ -1,0 +1,26 @@
+# check_hello_physics_output(<output>): fails unless hello_physics printed
+# one line a simulated second for 5 s and the 1 m box ended resting on the
+# ground, its centre at its half-height 0.5 m within 5 mm.
+function(check_hello_physics_output output)
+  string(REGEX MATCHALL "t = [0-9]+ s  y = -?[0-9.]+ m" lines "${output}")
+  list(LENGTH lines count)
+  if(NOT count EQUAL 5)
+    message(FATAL_ERROR "expected 5 lines, one per second, got ${count}:\n${output}")
+  endif()
+  set(second 0)
+  foreach(line IN LISTS lines)
+    math(EXPR second "${second} + 1")
+    string(REGEX REPLACE "t = ([0-9]+) s  y = (-?[0-9.]+) m" "\\1;\\2" fields "${line}")
+    list(GET fields 0 t)
+    list(GET fields 1 y)
+    if(NOT t EQUAL second)
+      message(FATAL_ERROR "line ${second} is for t = ${t} s:\n${output}")
+    endif()
+  endforeach()
+  # The last height, in tenths of a millimetre (CMake has integer maths only).
+  string(REGEX REPLACE "^([0-9]+)\\.([0-9][0-9][0-9][0-9])$" "\\1\\2" tenths_mm "${y}")
+  if(NOT tenths_mm MATCHES "^[0-9]+$" OR tenths_mm LESS 4950 OR tenths_mm GREATER 5050)
+    message(FATAL_ERROR "the box ended at y = ${y} m, not resting at 0.5 m:\n${output}")
+  endif()
+  message(STATUS "hello_physics: 5 lines, resting at y = ${y} m")
+endfunction()
