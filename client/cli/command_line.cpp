@@ -20,10 +20,7 @@ namespace {
 constexpr double kMaxTimeoutSeconds = 1e6;
 
 // A CLI11 check: the empty string when `text` is acceptable, else why not.
-std::string check_endpoint(const std::string& text) {
-  auto endpoint = client::parse_endpoint(text);
-  return endpoint ? std::string() : endpoint.failure().message;
-}
+std::string check_endpoint(const std::string& text) { return parse_endpoint(text).error; }
 
 std::string check_body(const std::string& text) {
   auto ref = client::parse_body_ref(text);
@@ -164,7 +161,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
       "Environment: TUMBLE_SERVER and TUMBLE_TOKEN stand in for --server and --token.\n"
       "Exit status: 0 success, 1 failure (server error, connection, timeout), 2 usage error.");
 
-  std::string server(client::kDefaultServer);
+  std::string server = to_string(default_endpoint());
   std::string token;
   double timeout_seconds = 10;
   bool json = false;
@@ -331,7 +328,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   }
 
   Invocation invocation;
-  invocation.global.server = client::parse_endpoint(server).value();
+  invocation.global.server = *parse_endpoint(server).endpoint;
   invocation.global.token = token;
   invocation.global.timeout = timeout_from_seconds(timeout_seconds);
   invocation.global.json = json;
