@@ -20,10 +20,11 @@
 #include "sim/simulation.h"
 #include "sim/state_file.h"
 #include "sim/state_saver.h"
+#include "tumble/version.h"
 
 namespace {
 
-constexpr const char* kVersion = "0.1.0";
+using tumble::kVersion;
 
 // HOST:PORT, with the host in brackets for IPv6 ("[::1]:7400").
 bool split_host_port(const std::string& text, std::string& host, std::uint16_t& port) {

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "exit_code.h"
+#include "tumble/version.h"
 #include "tumble_client/body_ref.h"
 
 namespace tumble::cli {
@@ -156,7 +157,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   CLI::App app{"tumble: command-line client of the tumble rigid-body simulation server"};
   app.name("tumble");
   app.require_subcommand(1);
-  app.set_version_flag("--version", TUMBLE_VERSION);
+  app.set_version_flag("--version", kVersion);
   app.footer(
       "Environment: TUMBLE_SERVER and TUMBLE_TOKEN stand in for --server and --token.\n"
       "Exit status: 0 success, 1 failure (server error, connection, timeout), 2 usage error.");
