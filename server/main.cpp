@@ -1,4 +1,5 @@
-// tumbled: the tumble simulation server. Options -> config -> run.
+// tumbled: the tumble simulation server. Options -> a ready world -> run
+// until SIGINT or SIGTERM -> save the world.
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -12,12 +13,8 @@
 #include "net/server.h"
 #include "options.h"
 #include "realtime.h"
-#include "sim/journal.h"
-#include "sim/replay.h"
-#include "sim/scene_file.h"
-#include "sim/simulation.h"
 #include "sim/state_file.h"
-#include "sim/state_saver.h"
+#include "startup.h"
 #include "tumble/version.h"
 
 namespace {
@@ -90,111 +87,12 @@ int main(int argc, char** argv) {
   auto log = spdlog::stderr_color_mt("tumbled");
   log_access(options.tokens, *log);
 
-  tumble::sim::SimConfig sim_config;
-  sim_config.tick_rate_hz = options.tick_rate_hz;
-  sim_config.max_bodies = options.max_bodies;
-  sim_config.physics_threads = options.physics_threads;
-
-  // Where the world starts: a journal's start, the state file, or the scene.
-  tumble::v1::Scene scene;
-  if (!options.scene_path.empty()) {
-    if (auto status = tumble::sim::load_scene_file(options.scene_path, &scene); !status.ok()) {
-      log->error("cannot load the scene: {}", status.message());
-      return kExitFailure;
-    }
-  } else {
-    scene.mutable_gravity()->set_y(-9.81);
-  }
-  tumble::sim::JournalReader replay;
-  tumble::v1::WorldState saved;
-  bool resume = false;
-  std::string origin = options.scene_path.empty() ? std::string("no scene") : options.scene_path;
-  if (!options.replay_path.empty()) {
-    if (auto status = replay.open(options.replay_path); !status.ok()) {
-      log->error("cannot replay: {}", status.message());
-      return kExitFailure;
-    }
-    const tumble::v1::JournalHeader& header = replay.header();
-    if (header.has_state()) {
-      saved = header.state();
-      resume = true;
-    } else {
-      if (!options.scene_path.empty() && header.scene().SerializeAsString() != scene.SerializeAsString()) {
-        log->error("cannot replay {}: it was recorded with another scene than {}", options.replay_path,
-                   options.scene_path);
-        return kExitFailure;
-      }
-      scene = header.scene();
-      sim_config.tick_rate_hz = header.tick_rate_hz();
-    }
-    origin = "the start of " + options.replay_path;
-  } else if (!options.state_path.empty()) {
-    bool exists = false;
-    if (auto status = tumble::sim::read_state_file(options.state_path, &saved, &exists); !status.ok()) {
-      log->error("cannot resume: {}", status.message());
-      return kExitFailure;
-    }
-    resume = exists;
-    if (exists) origin = options.state_path;
-  }
-  if (!resume && options.scene_path.empty() && options.replay_path.empty()) {
-    log->warn("no --scene given: starting with an empty world");
-  }
-
-  // Declared before the sim, which writes its last entry when it stops:
-  // the sim is destroyed (and stopped) first.
-  tumble::sim::JournalWriter journal;
-  std::unique_ptr<tumble::sim::Simulation> simulation;
-  if (resume) {
-    if (auto status = tumble::sim::Simulation::create_from_state(saved, sim_config, &simulation); !status.ok()) {
-      log->error("cannot resume from {}: {}", origin, status.message());
-      return kExitFailure;
-    }
-  } else if (auto status = tumble::sim::Simulation::create(scene, sim_config, &simulation); !status.ok()) {
-    log->error("invalid scene {}: {}", options.scene_path, status.message());
+  tumble::server::ReadyWorld world;
+  if (auto status = tumble::server::start_world(options, *log, &world); !status.ok()) {
+    log->error("{}", status.message());
     return kExitFailure;
   }
-  tumble::sim::Simulation& sim = *simulation;
-  log->info("tumbled {}: {} bodies from {}, at tick {}{}", tumble::kVersion, sim.body_count(), origin, sim.tick(),
-            sim.paused() ? ", paused" : "");
-
-  if (!options.replay_path.empty()) {
-    tumble::sim::ReplaySummary summary;
-    if (auto status = tumble::sim::replay_journal(replay, sim, &summary); !status.ok()) {
-      log->error("replay of {} failed after {} commands: {}", options.replay_path, summary.commands,
-                 status.message());
-      return kExitFailure;
-    }
-    log->info("replayed {} commands of {} to tick {}{}; paused there", summary.commands, options.replay_path,
-              summary.end_tick, summary.complete ? "" : " (the journal was cut short: its run was killed)");
-  }
-
-  if (!options.record_path.empty()) {
-    tumble::v1::JournalHeader header;
-    header.set_format_version(tumble::sim::kJournalFormat);
-    header.set_server_version(tumble::kVersion);
-    header.set_tick_rate_hz(sim.tick_rate_hz());
-    if (resume) {
-      sim.capture(header.mutable_state());
-    } else {
-      *header.mutable_scene() = scene;
-    }
-    if (auto status = journal.open(options.record_path, header); !status.ok()) {
-      log->error("cannot record: {}", status.message());
-      return kExitFailure;
-    }
-    sim.set_journal(&journal);
-    log->info("recording commands to {}", options.record_path);
-  }
-
-  std::unique_ptr<tumble::sim::StateSaver> saver;
-  if (!options.state_path.empty() && options.checkpoint_interval_seconds > 0) {
-    saver = std::make_unique<tumble::sim::StateSaver>(options.state_path);
-    sim.set_checkpoints(
-        from_seconds(options.checkpoint_interval_seconds),
-        [&saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
-    log->info("checkpointing the world to {} every {} s", options.state_path, options.checkpoint_interval_seconds);
-  }
+  tumble::sim::Simulation& sim = *world.sim;
 
   // The spinners start before this thread changes its scheduling, so none
   // of them ever spins under what the sim and I/O threads get.
@@ -209,8 +107,8 @@ int main(int argc, char** argv) {
 
   // This thread becomes the I/O thread (io.run() below); the sim thread,
   // started after it, inherits its scheduling: a short slice of the fair
-  // scheduler, or SCHED_FIFO. The checkpoint writer, started above, keeps
-  // ordinary scheduling: it writes files.
+  // scheduler, or SCHED_FIFO. The checkpoint writer, started by
+  // start_world(), keeps ordinary scheduling: it writes files.
   if (auto status = tumble::request_short_slice(); !status.ok()) {
     log->warn("{}; ticks may start late on a busy machine", status.message());
   }
@@ -246,9 +144,11 @@ int main(int argc, char** argv) {
   sim.start();
   io.run();
   sim.stop();
-  if (saver) saver->stop();  // a late checkpoint must not land after the final save
+  if (world.checkpoints) world.checkpoints->stop();  // a late checkpoint must not land after the final save
   log->info("stopped at tick {} ({} overruns)", sim.tick(), sim.overruns());
-  if (!journal.status().ok()) log->error("the journal is incomplete: {}", journal.status().message());
+  if (world.journal && !world.journal->status().ok()) {
+    log->error("the journal is incomplete: {}", world.journal->status().message());
+  }
   if (!options.state_path.empty()) {
     tumble::v1::WorldState state;
     sim.capture(&state);
