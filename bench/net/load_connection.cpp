@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "tumble_client/endpoint.h"
+#include "tumble/endpoint.h"
 
 namespace tumble::bench {
 
@@ -14,9 +14,9 @@ void exit_with(const std::string& what, const client::Failure& failure) {
 }
 
 client::Connection connect_or_exit(const LoadTarget& target, const std::string& name) {
-  auto endpoint = client::parse_endpoint(target.server);
-  if (!endpoint) exit_with("server", endpoint.failure());
-  auto connection = client::Connection::connect(*endpoint, name, target.token, std::chrono::seconds(10));
+  const ParsedEndpoint server = parse_endpoint(target.server);
+  if (!server.endpoint) exit_with("server", client::Failure{client::FailureKind::invalid_argument, server.error});
+  auto connection = client::Connection::connect(*server.endpoint, name, target.token, std::chrono::seconds(10));
   if (!connection) exit_with("connect", connection.failure());
   return std::move(*connection);
 }

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "exit_code.h"
+#include "tumble/version.h"
 #include "tumble_client/body_ref.h"
 
 namespace tumble::cli {
@@ -20,10 +21,7 @@ namespace {
 constexpr double kMaxTimeoutSeconds = 1e6;
 
 // A CLI11 check: the empty string when `text` is acceptable, else why not.
-std::string check_endpoint(const std::string& text) {
-  auto endpoint = client::parse_endpoint(text);
-  return endpoint ? std::string() : endpoint.failure().message;
-}
+std::string check_endpoint(const std::string& text) { return parse_endpoint(text).error; }
 
 std::string check_body(const std::string& text) {
   auto ref = client::parse_body_ref(text);
@@ -159,12 +157,12 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   CLI::App app{"tumble: command-line client of the tumble rigid-body simulation server"};
   app.name("tumble");
   app.require_subcommand(1);
-  app.set_version_flag("--version", TUMBLE_VERSION);
+  app.set_version_flag("--version", kVersion);
   app.footer(
       "Environment: TUMBLE_SERVER and TUMBLE_TOKEN stand in for --server and --token.\n"
       "Exit status: 0 success, 1 failure (server error, connection, timeout), 2 usage error.");
 
-  std::string server(client::kDefaultServer);
+  std::string server = to_string(default_endpoint());
   std::string token;
   double timeout_seconds = 10;
   bool json = false;
@@ -331,7 +329,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   }
 
   Invocation invocation;
-  invocation.global.server = client::parse_endpoint(server).value();
+  invocation.global.server = *parse_endpoint(server).endpoint;
   invocation.global.token = token;
   invocation.global.timeout = timeout_from_seconds(timeout_seconds);
   invocation.global.json = json;

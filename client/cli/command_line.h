@@ -30,15 +30,15 @@
 #include <vector>
 
 #include "reconnect_policy.h"
+#include "tumble/endpoint.h"
 #include "tumble/v1/protocol.pb.h"
 #include "tumble_client/connection.h"
-#include "tumble_client/endpoint.h"
 
 namespace tumble::cli {
 
 // Options written before the subcommand.
 struct GlobalOptions {
-  client::Endpoint server;                                   // --server, else $TUMBLE_SERVER, else 127.0.0.1:7400
+  Endpoint server;                                           // --server, else $TUMBLE_SERVER, else 127.0.0.1:7400
   std::string token;                                         // --token, else $TUMBLE_TOKEN
   client::Timeout timeout = client::kDefaultRequestTimeout;  // --timeout: connecting, and each request
   bool json = false;                                         // --json: one JSON object per line

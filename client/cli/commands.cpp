@@ -165,7 +165,7 @@ std::optional<client::Failure> subscribe_once(const GlobalOptions& global, const
   if (!subscribed) return subscribed.failure();
   progress.subscribed = true;
   if (progress.retried) {
-    notes << "tumble: reconnected to " << client::to_string(global.server) << " at tick " << list->tick()
+    notes << "tumble: reconnected to " << tumble::to_string(global.server) << " at tick " << list->tick()
           << std::endl;
   }
 

@@ -164,7 +164,7 @@ TEST(SubscribeReconnect, RidesThroughAClosedConnectionWithTheSameSubscribe) {
   EXPECT_EQ(ticks_of(run.frames), (std::vector<std::uint64_t>{100, 108, 50})) << "--count spans both connections";
   for (const json& frame : run.frames) ASSERT_FALSE(frame.is_discarded()) << "stdout holds frames only";
   EXPECT_EQ(first.SerializeAsString(), second.SerializeAsString()) << "the same Subscribe again";
-  const std::string where = client::to_string(server.endpoint());
+  const std::string where = tumble::to_string(server.endpoint());
   EXPECT_NE(run.notes.find("tumble: connection closed by the server; reconnecting in 0."), std::string::npos)
       << run.notes;
   EXPECT_NE(run.notes.find("tumble: reconnected to " + where + " at tick 50\n"), std::string::npos) << run.notes;
@@ -182,7 +182,7 @@ TEST(SubscribeReconnect, KeepsTryingWhileRefusedWaitingLongerEachTime) {
   EXPECT_EQ(ticks_of(run.frames), (std::vector<std::uint64_t>{10, 18}));
   // One line per refused attempt, each with its wait: 0.1 s, then twice as
   // long each time, each shortened by at most a quarter.
-  const std::regex refused("tumble: cannot connect to " + client::to_string(server.endpoint()) +
+  const std::regex refused("tumble: cannot connect to " + tumble::to_string(server.endpoint()) +
                            ": [^;\n]+; reconnecting in ([0-9.]+) s\n");
   std::vector<double> waits;
   for (auto it = std::sregex_iterator(run.notes.begin(), run.notes.end(), refused); it != std::sregex_iterator();

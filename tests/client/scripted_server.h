@@ -16,8 +16,8 @@
 
 #include <boost/asio.hpp>
 
+#include "tumble/endpoint.h"
 #include "tumble/v1/protocol.pb.h"
-#include "tumble_client/endpoint.h"
 #include "wire/frame.h"
 
 namespace tumble::client::testing {

@@ -16,8 +16,8 @@
 #include <memory>
 #include <string>
 
+#include "tumble/endpoint.h"
 #include "tumble/v1/protocol.pb.h"
-#include "tumble_client/endpoint.h"
 #include "tumble_client/result.h"
 
 namespace tumble::client {

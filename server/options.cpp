@@ -1,0 +1,155 @@
+#include "options.h"
+
+#include <algorithm>
+#include <sstream>
+
+#include <CLI/CLI.hpp>
+
+#include "realtime.h"
+#include "sim/request_check.h"
+#include "tumble/version.h"
+
+namespace tumble::server {
+namespace {
+
+// A CLI11 check of --listen and --http: the empty string when `text` is an
+// address to listen on, else why not.
+std::string check_listen_address(const std::string& text) { return parse_endpoint(text, PortZero::allowed).error; }
+
+Endpoint listen_address(const std::string& text) { return *parse_endpoint(text, PortZero::allowed).endpoint; }
+
+// CLI11's messages, folded onto one line.
+std::string one_line(std::string text) {
+  std::replace(text.begin(), text.end(), '\n', ' ');
+  while (!text.empty() && text.back() == ' ') text.pop_back();
+  return text;
+}
+
+ParsedServerOptions usage_error(std::string reason) {
+  ParsedServerOptions parsed;
+  parsed.exit_code = kExitUsage;
+  parsed.text = std::move(reason);
+  return parsed;
+}
+
+}  // namespace
+
+ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
+  CLI::App app{"tumbled: a networked rigid-body simulation server"};
+  app.name("tumbled");
+  ServerOptions options;
+
+  std::string listen = to_string(options.listen);
+  app.add_option("--listen", listen, "Address to listen on, HOST:PORT (port 0 picks a free one)")
+      ->capture_default_str()
+      ->check(check_listen_address);
+  app.add_option("--scene", options.scene_path, "Scene file (JSON) to load; an empty world without one");
+  app.add_option("--tick-rate", options.tick_rate_hz, "Simulation steps per second, 1 to 10000")
+      ->capture_default_str()
+      ->check(CLI::Range(sim::kMinTickRateHz, sim::kMaxTickRateHz));
+  app.add_option("--max-bodies", options.max_bodies, "Most bodies the world may hold; SpawnBody beyond it is refused")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{10000000}));
+  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error or off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  app.add_option("--max-frame-bytes", options.max_frame_bytes, "Largest message a client may send")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{64}, std::size_t{1} << 30));
+  app.add_option("--port-file", options.port_file, "Write the bound port to this file once listening");
+  // The HTTP endpoint: the viewer's page and WebSocket clients.
+  std::string http;
+  auto* http_option = app.add_option("--http", http,
+                                     "Serve the viewer's page, and WebSocket clients at /ws, on HOST:PORT (port 0 "
+                                     "picks a free one); off by default. No TLS: use loopback or a proxy")
+                          ->check(check_listen_address);
+  app.add_option("--http-port-file", options.http_port_file,
+                 "Write the bound HTTP port to this file once listening (before --port-file is written)")
+      ->needs(http_option);
+
+  // Shared-server safety: limits on each client and access tokens.
+  app.add_option("--max-connections", options.max_connections, "Clients served at once; more are refused")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}));
+  app.add_option("--max-commands-per-second", options.max_commands_per_second,
+                 "Requests per second a client may send (in bursts of as many); the excess gets RATE_LIMITED")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{1000000000}));
+  app.add_option("--handshake-timeout", options.handshake_timeout_seconds, "Seconds a new connection has to send Hello")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0));
+  app.add_option("--max-undelivered-seconds", options.max_undelivered_seconds,
+                 "Seconds a reply or frame may wait for a client that does not read before it is disconnected")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0));
+  app.add_option("--max-pending-bytes", options.max_pending_bytes,
+                 "Bytes of unsent replies a client may leave unread before it is disconnected")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{4096}, std::size_t{1} << 34));
+  app.add_option("--token", options.tokens.controller,
+                 "Token that makes a client a controller; prefer $TUMBLE_TOKEN (command lines are visible)")
+      ->envname("TUMBLE_TOKEN");
+  app.add_option("--observer-token", options.tokens.observer,
+                 "Token that makes a client an observer (reads only); or $TUMBLE_OBSERVER_TOKEN")
+      ->envname("TUMBLE_OBSERVER_TOKEN");
+
+  // Persistence: the world across restarts, and runs that can be replayed.
+  app.add_option("--state", options.state_path,
+                 "State file: the world is saved to it on SIGTERM/SIGINT and resumed from it at start when it "
+                 "exists (then --scene is only used when it does not)");
+  auto* checkpoint_option =
+      app.add_option("--checkpoint-interval", options.checkpoint_interval_seconds,
+                     "Also save the state file every this many seconds, so a crash loses at most that much")
+          ->check(CLI::Range(0.01, 86400.0));
+  auto* record_option =
+      app.add_option("--record", options.record_path, "Journal every command with its tick to this file, for --replay");
+  auto* replay_option = app.add_option("--replay", options.replay_path,
+                                       "Replay a journal made by --record (from its start; --scene must be the "
+                                       "recorded scene when given), then serve the world paused where it ended");
+  app.add_option("--physics-threads", options.physics_threads,
+                 "Threads that run the narrowphase and solve the world's contact groups, the sim thread included; "
+                 "results are the same for any count. More help a world of many separate piles on a machine "
+                 "with cores to spare")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+
+  // Scheduling: on a shared machine, keeps ticks and frames on time.
+  app.add_option("--realtime-priority", options.realtime_priority,
+                 "Run the sim and network threads under SCHED_FIFO at this priority (1 to 99), ahead of every "
+                 "ordinary process, so other work on the machine cannot delay a tick or a frame; needs "
+                 "CAP_SYS_NICE or ulimit -r. 0: ordinary scheduling")
+      ->capture_default_str()
+      ->check(CLI::Range(0, kMaxRealtimePriority));
+  app.add_flag("--keep-cpus-awake", options.keep_cpus_awake,
+               "Keep every CPU of tumbled's affinity mask from halting: a thread on each spins under SCHED_IDLE, "
+               "yielding to any other. On a virtual machine a halted CPU can resume milliseconds late; the CPUs "
+               "then read as fully busy");
+  checkpoint_option->needs("--state");
+  record_option->excludes(replay_option);
+  app.set_version_flag("--version", kVersion);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    std::ostringstream out;
+    std::ostringstream err;
+    // 0 after --help and --version, which CLI11 reports by throwing.
+    if (app.exit(error, out, err) == kExitSuccess) {
+      ParsedServerOptions parsed;
+      parsed.text = out.str();
+      return parsed;
+    }
+    return usage_error(one_line(error.what()));
+  }
+
+  if (!options.tokens.controller.empty() && options.tokens.controller == options.tokens.observer) {
+    return usage_error("--token and --observer-token must differ: a client's role is told by its token");
+  }
+  options.listen = listen_address(listen);
+  if (http_option->count() > 0) options.http = listen_address(http);
+  ParsedServerOptions parsed;
+  parsed.options = std::move(options);
+  return parsed;
+}
+
+}  // namespace tumble::server
