@@ -16,7 +16,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/body.h"
+#include "tumble/physics/body.h"
 #include "sim/publish_interest.h"
 
 namespace tumble::sim {

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "physics/world.h"
+#include "tumble/physics/world.h"
 #include "sim/body_directory.h"
 #include "sim/world_event.h"
 

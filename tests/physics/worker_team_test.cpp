@@ -143,7 +143,7 @@ TEST(WorkerTeamTest, GrowsShrinksAndStops) {
         std::lock_guard lock(mutex);
         runners.insert(static_cast<pid_t>(::gettid()));
       };
-      for (int job = 0; job < 10; ++job) team.for_each(hits.size(), task);
+      for (int job = 0; job < 10; ++job) run_tasks(team, hits.size(), task);
       for (int h : hits) ASSERT_EQ(h, 10);
       for (pid_t runner : runners) EXPECT_EQ(allowed.count(runner), 1u) << "task ran on thread " << runner;
       if (expected == 1) {
