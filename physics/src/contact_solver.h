@@ -41,24 +41,25 @@
 // adds to its usual pose update (split-impulse style), so positions follow
 // the substeps while the momenta keep only the relaxed velocities.
 //
-// Islands: the constraints are grouped by the dynamic bodies they connect
-// (static and kinematic bodies, which no constraint moves, do not join
-// islands). Consecutive islands are gathered into groups of at least
-// kGroupPoints points, and each group is solved on its own, start to end, as
-// one task of a TaskSystem. No two groups write the same body or contact, so
-// they may run on several threads at once; the groups do not depend on the
-// thread count, and each group's arithmetic is the same whichever thread runs
-// it, so results do not depend on the thread count.
+// Islands (contact_islands.h): the constraints are grouped by the dynamic
+// bodies they connect; prepare() builds them once a step and islands()
+// hands them on (to World's sleep pass). Consecutive islands are gathered
+// into groups of at least kGroupPoints points, and each group is solved on
+// its own, start to end, as one task of a TaskSystem
+// (contact_solver_tasks.cpp). No two groups write the same body or
+// contact, so they may run on several threads at once; the groups do not
+// depend on the thread count, and each group's arithmetic is the same
+// whichever thread runs it, so results do not depend on the thread count.
 //
-// Wide rows (Box2D v3's graph colouring, Catto, "Solver2D", 2024): within a
-// group the constraints are coloured so that no two of one colour move the
-// same body, and each colour is packed four constraints at a time into a
-// wide constraint, solved in the four lanes of Float4 (float4.h) at once.
-// Static bodies and kinematic bodies that stand still take no slot: their
-// terms read a slot of zeros. A constraint for which no colour is free is
-// solved in a wide constraint of its own (one lane used). The rows are built
-// in double precision and stored and solved in single precision; the solve
-// hands back each body's change of velocity, added to its double velocity.
+// Wide rows: within a group the constraints are coloured so that no two of
+// one colour move the same body (constraint_graph.h), and each colour is
+// packed four constraints at a time into a wide constraint, solved in the
+// four lanes of Float4 at once (wide_constraint.h). Static bodies and
+// kinematic bodies that stand still take no slot: their terms read a slot
+// of zeros. A constraint for which no colour is free is solved in a wide
+// constraint of its own (one lane used). The rows are built in double
+// precision and stored and solved in single precision; the solve hands
+// back each body's change of velocity, added to its double velocity.
 //
 // Thread: prepare() and solve() from the World's thread; solve() runs
 // groups on the team's threads and returns when all are done. Arrays are
@@ -69,19 +70,15 @@
 #include <span>
 #include <vector>
 
+#include "constraint_graph.h"
 #include "contact.h"
-#include "float4.h"
-#include "transform.h"
+#include "contact_islands.h"
+#include "solver_body.h"
 #include "tumble/physics/math.h"
 #include "tumble/physics/task_system.h"
+#include "wide_constraint.h"
 
 namespace tumble::physics {
-
-// A body's velocity during the solve (m/s, rad/s, world frame).
-struct SolverVelocity {
-  Vec3 linear = Vec3::Zero();
-  Vec3 angular = Vec3::Zero();
-};
 
 struct ContactSolverSettings {
   int substeps = 4;          // >= 1
@@ -93,23 +90,12 @@ struct ContactSolverSettings {
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
 };
 
-// Per-body inputs, all indexed by dense body index. Static and kinematic
-// bodies have inverse mass 0 and a zero inverse inertia.
-struct ContactSolverBodies {
-  std::span<const double> inverse_mass;            // 1/M
-  std::span<const Mat3> inverse_inertia;           // I^-1 in the world frame, this step
-  std::span<const Transform> transforms;           // centre of mass position this step
-  std::span<const double> friction;                // coefficient of each body
-  std::span<const double> restitution;             // coefficient of each body
-  std::span<const SolverVelocity> external_change;  // change of v and w over the step from gravity and forces
-};
-
 class ContactSolver {
  public:
-  // Lists a constraint for each contact in active that has points
-  // (links[k] names the bodies of contacts[k]) and groups them into islands.
-  // contacts and bodies must stay unchanged until solve() returns; solve()
-  // writes the contacts' impulses.
+  // Builds this step's islands (contact_islands.h) from the contacts in
+  // active that have points (links[k] names the bodies of contacts[k]) and
+  // takes the step's settings. contacts and bodies must stay unchanged
+  // until solve() returns; solve() writes the contacts' impulses.
   void prepare(std::span<Contact> contacts, std::span<const ContactLink> links, std::span<const std::uint32_t> active,
                const ContactSolverBodies& bodies, double dt, const ContactSolverSettings& settings);
   // Room for this many constraints and four points each, reserved (not
@@ -125,34 +111,19 @@ class ContactSolver {
   // the end of the step before contacts (the external change already added).
   void solve(std::span<SolverVelocity> velocities, TaskSystem* team);
 
+  // This step's islands, as prepare() built them; valid until the next
+  // prepare().
+  const ContactIslands& islands() const { return islands_; }
   // Dynamic bodies in at least one constraint this step, island by island.
-  std::span<const std::uint32_t> touched_bodies() const { return touched_; }
+  std::span<const std::uint32_t> touched_bodies() const { return islands_.bodies(); }
   // For a touched body after solve(): (displacement of the substeps - v dt)
   // / dt and the same for rotation, where v and w are the final velocities.
   SolverVelocity pseudo_velocity(std::uint32_t body, const SolverVelocity& final_velocity) const;
-  std::size_t constraint_count() const { return constraint_count_; }
-  std::size_t point_count() const { return point_count_; }
-  std::size_t island_count() const { return islands_.size(); }
+  std::size_t constraint_count() const { return islands_.constraints().size(); }
+  std::size_t point_count() const { return islands_.point_count(); }
+  std::size_t island_count() const { return islands_.islands().size(); }
 
  private:
-  // A constraint as prepare() lists it: one contact with points.
-  struct Constraint {
-    std::uint32_t body_a = 0;
-    std::uint32_t body_b = 0;
-    std::uint32_t contact = 0;
-    std::uint32_t point_count = 0;
-  };
-
-  // Constraints [first_constraint, + constraint_count) and dynamic bodies
-  // touched_[first_body, + body_count) that no other island shares.
-  struct Island {
-    std::uint32_t first_constraint = 0;
-    std::uint32_t constraint_count = 0;
-    std::uint32_t first_body = 0;
-    std::uint32_t body_count = 0;
-    std::uint32_t point_count = 0;
-  };
-
   // Consecutive islands solved as one task: their constraints and bodies
   // (contiguous, as the islands'), the body slots [first_slot, + slot_count)
   // of solver_bodies_ (slot first_slot is the group's slot of zeros) and the
@@ -168,110 +139,32 @@ class ContactSolver {
     std::uint32_t first_wide = 0;
     std::uint32_t wide_count = 0;
   };
-
-  // A body during the solve, single precision, world frame: its velocity
-  // (m/s, rad/s) and its motion within the step so far, the displacement dp
-  // (m) and rotation dtheta = sum of w h (rad). The fourth float of each is
-  // padding.
-  struct alignas(16) SolverBody {
-    float linear[4] = {};
-    float angular[4] = {};
-    float displacement[4] = {};
-    float rotation[4] = {};
-  };
-
-  // One row of four lanes: a direction d at one point of each lane's
-  // constraint, with its angular Jacobians r_a x d, r_b x d, their products
-  // with the inverse inertias, the effective mass and the accumulated
-  // impulse. A lane whose constraint has fewer points, or no constraint,
-  // holds zeros and takes no impulse.
-  struct WideRow {
-    Vec3x4 jacobian_a, jacobian_b;
-    Vec3x4 response_a, response_b;
-    Float4 mass, impulse;
-  };
-  struct WidePoint {
-    WideRow normal, tangent1, tangent2;
-    Float4 separation;         // s_0, at the start of the step (m)
-    Float4 relative_velocity;  // normal velocity before the solve (m/s)
-    Float4 max_normal_impulse;
-  };
-  // Four constraints of one colour (no two move the same body), lane by
-  // lane: their body slots, relative to the group's first slot, and
-  // constraint index (kNoConstraint in an unused lane), then the rows'
-  // common terms. A soft row's spring (contact_solver.h, step 3) differs
-  // between lanes against a body of infinite mass and the others.
-  struct WideConstraint {
-    std::uint32_t slot_a[4] = {};
-    std::uint32_t slot_b[4] = {};
-    std::uint32_t constraint[4] = {};
-    std::uint32_t first_point = 0;  // in wide_points_
-    std::uint32_t point_count = 0;  // the most of the four lanes
-    Vec3x4 normal, tangent1, tangent2;
-    Float4 inverse_mass_a, inverse_mass_b;
-    Float4 friction, restitution;
-    Float4 bias_rate, mass_scale, impulse_scale;
-  };
   // Position of a body within the step, relative to its start.
   struct Motion {
     Vec3 displacement = Vec3::Zero();  // dp (m)
     Vec3 rotation = Vec3::Zero();      // dtheta, sum of w h (rad)
   };
-  // The implicit spring of a soft row (Box2D's b2Softness).
-  struct Softness {
-    double bias_rate = 0;      // 1/s
-    double mass_scale = 1;
-    double impulse_scale = 0;
-  };
-  // The velocities of one side of four lanes, and their motion.
-  struct WideVelocity {
-    Vec3x4 linear, angular;
-  };
-  struct WideMotion {
-    Vec3x4 displacement, rotation;
-  };
 
-  static constexpr std::uint32_t kNoConstraint = 0xffffffff;
   static constexpr std::uint32_t kNoBody = 0xffffffff;
 
-  std::uint32_t island_root(std::uint32_t body);
-  void touch(std::uint32_t body);
+  // Groups and their dispatch (contact_solver_tasks.cpp).
   void plan_group(Group& group, std::span<const SolverVelocity> velocities);
+  // The passes (contact_solver.cpp).
   void solve_group(const Group& group, std::span<SolverVelocity> velocities);
-  void build_lane(WideConstraint& w, int lane, std::span<const SolverVelocity> velocities);
-  // One vector of a SolverBody (linear, angular, displacement or rotation).
-  using Field = float (SolverBody::*)[4];
-  static Vec3x4 gather(const SolverBody* slots, const std::uint32_t (&index)[4], Field field);
-  static WideVelocity gather_velocity(const SolverBody* slots, const std::uint32_t (&index)[4]);
-  static WideMotion gather_motion(const SolverBody* slots, const std::uint32_t (&index)[4]);
-  static void scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[4], const Float4& inverse_mass,
-                               const WideVelocity& v);
   void warm_start(const Group& group);
   void solve_pass(const Group& group, bool soft);
   void apply_restitution(const Group& group);
   void store_impulses(const Group& group) const;
 
-  // This step's constraints, island by island: the first constraint_count_
-  // entries (the vector only grows).
-  std::vector<Constraint> constraints_;
-  std::size_t constraint_count_ = 0;
-  std::size_t point_count_ = 0;
-  std::vector<Island> islands_;
+  ContactIslands islands_;
+  ConstraintGraph graph_;  // scratch of plan_group()
   std::vector<Group> groups_;
   std::vector<std::uint32_t> group_order_;  // groups by falling point count: the order a team's tasks start
   std::vector<SolverBody> solver_bodies_;
   std::vector<SolverBody> solver_external_;  // each slot's change of v and w over the step (linear, angular)
   std::vector<WideConstraint> wide_;
   std::vector<WidePoint> wide_points_;
-  std::vector<Motion> motion_;
-  std::vector<std::uint8_t> is_touched_;
-  std::vector<std::uint32_t> touched_;
-  // Scratch of prepare(): the contacts with points in active order, a
-  // union-find forest over dynamic bodies and each root's island.
-  std::vector<std::uint32_t> pending_;
-  std::vector<std::uint32_t> parent_;
-  std::vector<std::uint32_t> island_of_root_;
-  std::vector<std::uint32_t> island_of_pending_;
+  std::vector<Motion> motion_;  // by dense body, written by solve() for the touched bodies
   // The body of each slot of solver_bodies_ (kNoBody for a group's slot of
   // zeros): the group's dynamic bodies, then the kinematic bodies in motion
   // it reads.
@@ -280,14 +173,10 @@ class ContactSolver {
   std::size_t wide_count_ = 0;
   std::size_t wide_point_count_ = 0;
   // Scratch of plan_group(): a body's slot in its group (a kinematic
-  // body's only where slot_stamp_ holds the group's plan_stamp_), and the
-  // colours.
+  // body's only where slot_stamp_ holds the group's plan_stamp_).
   std::vector<std::uint32_t> slot_of_body_;
   std::vector<std::uint64_t> slot_stamp_;
   std::uint64_t plan_stamp_ = 0;
-  std::vector<std::uint64_t> colour_bits_;
-  std::vector<std::uint32_t> colour_members_;
-  std::vector<std::uint32_t> colour_of_;
   std::span<Contact> contacts_;
   ContactSolverBodies bodies_;
   ContactSolverSettings settings_;

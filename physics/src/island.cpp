@@ -8,8 +8,10 @@
 // falls asleep as a whole: its bodies stop being integrated and their
 // contacts are neither updated nor solved. Anything that disturbs one of its
 // bodies wakes the whole island (Catto, "Box2D" b2Island; Baraff's notes
-// leave sleeping out).
+// leave sleeping out). The islands of a step are built once, by the contact
+// solver (contact_islands.h), and read here.
 #include <algorithm>
+#include <span>
 
 #include "world_impl.h"
 
@@ -20,10 +22,8 @@ void World::Impl::update_sleep(double dt) {
   const double time_to_sleep = settings_.time_to_sleep;
   bool any_ready = false;
   for (std::size_t i = 0; i < records_.size(); ++i) {
-    // Only awake bodies are visited below, so only theirs need clearing.
     if (!awake_[i]) continue;
     BodyRecord& record = records_[i];
-    record.visited = false;
     if (record.motion_type != MotionType::dynamic_body) continue;
     const SolverVelocity& v = velocities_[i];
     const double speed = std::max(v.linear.norm(), v.angular.norm() * record.bounding_radius);
@@ -36,47 +36,27 @@ void World::Impl::update_sleep(double dt) {
   }
   if (!any_ready) return;
 
-  // Depth-first search over touching contacts from each body ready to
-  // sleep; bodies not ready keep their island awake.
-  for (std::uint32_t seed = 0; seed < records_.size(); ++seed) {
-    if (!awake_[seed]) continue;
-    const BodyRecord& seed_record = records_[seed];
-    if (seed_record.visited || seed_record.motion_type != MotionType::dynamic_body ||
-        seed_record.sleep_time < time_to_sleep) {
-      continue;
+  // The islands the solver built from this step's touching contacts
+  // (contact_islands.h): an island sleeps when every body in it has been
+  // slow long enough and no kinematic body in motion carries it. Each
+  // island's bodies are awake (touching a sleeping body wakes its island)
+  // and it has a contact, so it touches something.
+  const ContactIslands& islands = solver_.islands();
+  const std::span<const std::uint32_t> bodies = islands.bodies();
+  const std::span<const ContactConstraint> constraints = islands.constraints();
+  auto moving_kinematic = [&](std::uint32_t body) {
+    return records_[body].motion_type == MotionType::kinematic_body && awake_[body];
+  };
+  for (const ContactIsland& island : islands.islands()) {
+    const std::span<const std::uint32_t> members = bodies.subspan(island.first_body, island.body_count);
+    bool can_sleep = std::all_of(members.begin(), members.end(),
+                                 [&](std::uint32_t body) { return records_[body].sleep_time >= time_to_sleep; });
+    for (std::uint32_t k = 0; can_sleep && k < island.constraint_count; ++k) {
+      const ContactConstraint& c = constraints[island.first_constraint + k];
+      can_sleep = !moving_kinematic(c.body_a) && !moving_kinematic(c.body_b);
     }
-    island_stack_.clear();
-    island_members_.clear();
-    island_stack_.push_back(seed);
-    records_[seed].visited = true;
-    bool can_sleep = true;
-    bool touches = false;
-    while (!island_stack_.empty()) {
-      const std::uint32_t body = island_stack_.back();
-      island_stack_.pop_back();
-      island_members_.push_back(body);
-      if (records_[body].sleep_time < time_to_sleep) can_sleep = false;
-      for (ContactKey key = records_[body].contact_head; key != kNullContactKey;) {
-        const ContactLink& link = links_[key >> 1];
-        const std::uint32_t side = key & 1;
-        key = link.next[side];
-        if (!link.touching) continue;
-        touches = true;
-        const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
-        BodyRecord& other_record = records_[other];
-        if (other_record.motion_type == MotionType::kinematic_body) {
-          if (awake_[other]) can_sleep = false;  // carried by a moving body
-          continue;
-        }
-        if (other_record.motion_type != MotionType::dynamic_body || other_record.visited || !awake_[other]) {
-          continue;
-        }
-        other_record.visited = true;
-        island_stack_.push_back(other);
-      }
-    }
-    if (!can_sleep || !touches) continue;
-    for (std::uint32_t body : island_members_) put_to_sleep(body);
+    if (!can_sleep) continue;
+    for (std::uint32_t body : members) put_to_sleep(body);
   }
 }
 

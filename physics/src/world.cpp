@@ -177,12 +177,11 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   refresh_solver_data(index);
   aabbs_.push_back(shape_aabb(index));
   box_passes_.push_back(contact_pass_ + 1);
-  // An island search visits each body once, so its scratch never needs
-  // more than a slot a body: room for all of them now, growing with the
-  // body arrays, keeps waking and sleeping free of allocation.
+  // A flood of wake_island() visits each body once, so its scratch never
+  // needs more than a slot a body: room for all of them now, growing with
+  // the body arrays, keeps waking free of allocation.
   if (island_stack_.capacity() < records_.size()) {
     island_stack_.reserve(records_.capacity());
-    island_members_.reserve(records_.capacity());
     woken_.reserve(records_.capacity());
   }
   // Contacts: address space for a few a body, reserved as bodies come and

@@ -94,7 +94,6 @@ class World::Impl {
   struct BodyRecord {
     MotionType motion_type = MotionType::dynamic_body;
     bool moved = false;    // fat box replaced in this step's broadphase
-    bool visited = false;  // reached by this step's island search
     double sleep_time = 0;       // s spent slower than sleep_speed
     double bounding_radius = 0;  // m, of the shape about the centre of mass
     double reach = 0;            // m the body can travel this step (0 unless awake_)
@@ -212,9 +211,8 @@ class World::Impl {
   // the built-in team, else nowhere (every task on the calling thread).
   TaskSystem* tasks() const { return task_system_ != nullptr ? task_system_ : team_.get(); }
 
-  // Island search scratch.
+  // Scratch of wake_island()'s flood.
   std::vector<std::uint32_t> island_stack_;
-  std::vector<std::uint32_t> island_members_;
   std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
   bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
 

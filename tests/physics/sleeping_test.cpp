@@ -188,6 +188,30 @@ TEST(SleepingTest, FreeBodiesDoNotSleep) {
   EXPECT_NEAR(world.position(box).x(), 0.003, 1e-12);
 }
 
+// A kinematic body in motion carries the island it touches: a box riding a
+// platform that creeps slower than the sleep speed is slow enough to sleep,
+// yet stays awake and rides along; once the platform stops, the box sleeps.
+TEST(SleepingTest, MovingKinematicBodyKeepsItsIslandAwake) {
+  World world;
+  BodyDesc platform_desc = box_body(Vec3(0.0, -0.5, 0.0));
+  platform_desc.shape = box_shape(Vec3(5.0, 0.5, 5.0));
+  platform_desc.motion_type = MotionType::kinematic_body;
+  platform_desc.linear_velocity = Vec3(0.02, 0.0, 0.0);  // below the sleep speed
+  const BodyId platform = world.add_body(platform_desc);
+  const BodyId box = world.add_body(box_body(Vec3(0.0, 0.5, 0.0)));
+  ASSERT_LT(0.02, world.settings().sleep_speed * 0.5);
+  for (int i = 0; i < 4 * 240; ++i) {
+    world.step(kTick);
+    ASSERT_TRUE(world.is_awake(box)) << "step " << i;
+  }
+  // 4 s at the platform's 0.02 m/s: friction holds the box to it.
+  EXPECT_NEAR(world.position(box).x(), 0.08, 0.005);
+
+  world.set_state(platform, world.position(platform), world.orientation(platform), Vec3::Zero(), Vec3::Zero());
+  for (int i = 0; i < 240 && world.is_awake(box); ++i) world.step(kTick);
+  EXPECT_FALSE(world.is_awake(box));
+}
+
 // The solver's islands are the same: bodies joined by touching contacts,
 // never through a static body. Three columns of three boxes are three
 // islands; a dynamic plank across two joins them; a static plank across two

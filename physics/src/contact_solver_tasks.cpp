@@ -1,0 +1,129 @@
+// ContactSolver::solve: the islands gathered into groups, each group
+// planned (its body slots, its colours and its wide constraints) on the
+// caller's thread, then each group solved as one task of a TaskSystem
+// (contact_solver.h, "Islands"). The passes a task runs are in
+// contact_solver.cpp.
+#include <algorithm>
+
+#include "contact_solver.h"
+#include "run_tasks.h"
+
+namespace tumble::physics {
+namespace {
+
+// A group gathers islands until it holds this many points: enough to fill
+// the lanes of each colour, few enough that the landing of a thousand boxes
+// makes several tasks for a team.
+constexpr std::uint32_t kGroupPoints = 1024;
+
+}  // namespace
+
+void ContactSolver::solve(std::span<SolverVelocity> velocities, TaskSystem* team) {
+  // Groups of consecutive islands (their constraints and bodies are
+  // contiguous), then their slots and wide constraints, on this thread.
+  groups_.clear();
+  slot_count_ = 0;
+  wide_count_ = 0;
+  wide_point_count_ = 0;
+  for (const ContactIsland& island : islands_.islands()) {
+    if (groups_.empty() || groups_.back().point_count >= kGroupPoints) {
+      Group group;
+      group.first_constraint = island.first_constraint;
+      group.first_body = island.first_body;
+      groups_.push_back(group);
+    }
+    Group& group = groups_.back();
+    group.constraint_count += island.constraint_count;
+    group.body_count += island.body_count;
+    group.point_count += island.point_count;
+  }
+  for (Group& group : groups_) plan_group(group, velocities);
+  if (solver_bodies_.size() < slot_count_) {
+    solver_bodies_.resize(slot_count_);
+    solver_external_.resize(slot_count_);
+  }
+  if (wide_points_.size() < wide_point_count_) wide_points_.resize(wide_point_count_);
+
+  if (team == nullptr || team->thread_count() == 1) {
+    for (const Group& group : groups_) solve_group(group, velocities);
+    return;
+  }
+  // Largest groups first, so the last task to start is a small one. (The
+  // order changes which thread takes a group, not its result.)
+  group_order_.resize(groups_.size());
+  for (std::uint32_t i = 0; i < group_order_.size(); ++i) group_order_[i] = i;
+  std::sort(group_order_.begin(), group_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return groups_[x].point_count != groups_[y].point_count ? groups_[x].point_count > groups_[y].point_count : x < y;
+  });
+  auto task = [&](std::size_t k) { solve_group(groups_[group_order_[k]], velocities); };
+  run_tasks(*team, group_order_.size(), task);
+}
+
+void ContactSolver::plan_group(Group& group, std::span<const SolverVelocity> velocities) {
+  // Slots: the slot of zeros, the group's dynamic bodies, then each
+  // kinematic body in motion that a constraint reads. A static body, or a
+  // kinematic one standing still, reads the slot of zeros.
+  group.first_slot = static_cast<std::uint32_t>(slot_count_);
+  auto add_slot = [&](std::uint32_t body) {
+    if (slot_body_.size() <= slot_count_) slot_body_.resize(slot_count_ + 1);
+    slot_body_[slot_count_++] = body;
+  };
+  add_slot(kNoBody);
+  const std::span<const std::uint32_t> bodies = islands_.bodies();
+  for (std::uint32_t k = 0; k < group.body_count; ++k) {
+    const std::uint32_t body = bodies[group.first_body + k];
+    slot_of_body_[body] = k + 1;
+    add_slot(body);
+  }
+  // A kinematic body's slot is valid in this group only: stamped with the
+  // plan that made it.
+  ++plan_stamp_;
+  auto slot_of = [&](std::uint32_t body) -> std::uint32_t {
+    if (bodies_.inverse_mass[body] != 0) return slot_of_body_[body];
+    const SolverVelocity& v = velocities[body];
+    if (v.linear.isZero(0) && v.angular.isZero(0)) return 0;
+    if (slot_stamp_[body] != plan_stamp_) {
+      slot_stamp_[body] = plan_stamp_;
+      slot_of_body_[body] = static_cast<std::uint32_t>(slot_count_) - group.first_slot;
+      add_slot(body);
+    }
+    return slot_of_body_[body];
+  };
+
+  const std::span<const ContactConstraint> constraints =
+      islands_.constraints().subspan(group.first_constraint, group.constraint_count);
+  graph_.colour(constraints, bodies_.inverse_mass, slot_of_body_, group.body_count);
+
+  // Wide constraints: each colour four at a time, then the overflow one
+  // at a time.
+  group.first_wide = static_cast<std::uint32_t>(wide_count_);
+  for (std::uint32_t colour = 0; colour <= ConstraintGraph::kOverflow; ++colour) {
+    const std::span<const std::uint32_t> members = graph_.members(colour);
+    const std::size_t width = colour == ConstraintGraph::kOverflow ? 1 : kLanes;
+    for (std::size_t k = 0; k < members.size(); k += width) {
+      if (wide_.size() <= wide_count_) wide_.resize(wide_count_ + 1);
+      WideConstraint& w = wide_[wide_count_++];
+      w.point_count = 0;
+      for (int lane = 0; lane < kLanes; ++lane) {
+        const std::size_t at = k + static_cast<std::size_t>(lane);
+        if (static_cast<std::size_t>(lane) >= width || at >= members.size()) {
+          w.constraint[lane] = kNoConstraint;
+          w.slot_a[lane] = w.slot_b[lane] = 0;
+          continue;
+        }
+        const std::uint32_t index = group.first_constraint + members[at];
+        const ContactConstraint& c = constraints[members[at]];
+        w.constraint[lane] = index;
+        w.slot_a[lane] = slot_of(c.body_a);
+        w.slot_b[lane] = slot_of(c.body_b);
+        w.point_count = std::max(w.point_count, c.point_count);
+      }
+      w.first_point = static_cast<std::uint32_t>(wide_point_count_);
+      wide_point_count_ += w.point_count;
+    }
+  }
+  group.wide_count = static_cast<std::uint32_t>(wide_count_) - group.first_wide;
+  group.slot_count = static_cast<std::uint32_t>(slot_count_) - group.first_slot;
+}
+
+}  // namespace tumble::physics
