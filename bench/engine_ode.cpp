@@ -64,10 +64,10 @@ class OdeEngine final : public Engine {
       const dQuaternion orientation = {body.orientation.w(), body.orientation.x(), body.orientation.y(),
                                        body.orientation.z()};  // ODE: [w, x, y, z]
       dBodySetQuaternion(id, orientation);
-      const dGeomID geom = body.shape == BodyShape::box
-                               ? dCreateBox(space_, 2 * body.half_extents.x(), 2 * body.half_extents.y(),
-                                            2 * body.half_extents.z())
-                               : dCreateSphere(space_, body.radius);
+      const dGeomID geom =
+          body.shape == BodyShape::box
+              ? dCreateBox(space_, 2 * body.half_extents.x(), 2 * body.half_extents.y(), 2 * body.half_extents.z())
+              : dCreateSphere(space_, body.radius);
       dGeomSetBody(geom, id);
       bodies_.push_back(id);
     }

@@ -51,7 +51,7 @@ double mean(const std::vector<double>& values) {
 
 // Runs one scene in every engine, `repetitions` times, in lockstep.
 std::vector<EngineResult> run_scene(const Scene& scene, const std::vector<std::string>& engines,
-                                     const EngineOptions& options, int repetitions) {
+                                    const EngineOptions& options, int repetitions) {
   std::vector<EngineResult> results(engines.size());
   for (std::size_t e = 0; e < engines.size(); ++e) {
     results[e].engine = engines[e];
@@ -101,10 +101,11 @@ std::vector<std::string> without_repeats(const std::vector<std::string>& names) 
 }
 
 int run(int argc, char** argv) {
-  CLI::App app{"Runs the same rigid-body scenes in tumble, Bullet and ODE at 60 steps per second on one thread (tumble "
-               "on --tumble-threads), and "
-               "prints per scene and engine the median ms per step, the deepest penetration and the bodies that "
-               "fell through the ground."};
+  CLI::App app{
+      "Runs the same rigid-body scenes in tumble, Bullet and ODE at 60 steps per second on one thread (tumble "
+      "on --tumble-threads), and "
+      "prints per scene and engine the median ms per step, the deepest penetration and the bodies that "
+      "fell through the ground."};
   std::vector<std::string> scenes = scene_names();
   std::vector<std::string> engines = engine_names();
   int steps = 0;
@@ -152,8 +153,8 @@ int run(int argc, char** argv) {
           "scene=%s engine=%s ms_per_step=%.4f max_penetration=%.4f below_ground=%zu mean_ms_per_step=%.4f "
           "ground_penetration=%.4f body_penetration=%.4f end_penetration=%.4f awake_end=%zu\n",
           scene.name.c_str(), result.engine.c_str(), median(result.step_ms), worst, result.below_ground,
-          mean(result.step_ms), result.worst.ground, result.worst.bodies, std::max(result.end.ground, result.end.bodies),
-          result.awake);
+          mean(result.step_ms), result.worst.ground, result.worst.bodies,
+          std::max(result.end.ground, result.end.bodies), result.awake);
       std::fflush(stdout);
     }
   }

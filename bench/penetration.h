@@ -42,7 +42,7 @@ class PenetrationProbe {
   std::vector<Vec3> positions_;
   std::vector<Eigen::Matrix3d> rotations_;
   std::vector<Eigen::Vector3i> cells_;
-  std::vector<char> finite_;  // pose has no NaN or infinity
+  std::vector<char> finite_;                 // pose has no NaN or infinity
   std::vector<std::uint32_t> bucket_start_;  // bodies of bucket b: order_[start[b] .. start[b + 1])
   std::vector<std::uint32_t> cursor_;        // next free slot of each bucket while sorting
   std::vector<std::uint32_t> order_;         // body indices sorted by bucket

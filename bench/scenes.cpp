@@ -104,15 +104,15 @@ Scene spheres(int columns, int height) {
         const double centre = 0.5 * (columns - 1);
         const double dx = jitter.next();
         const double dz = jitter.next();
-        scene.bodies.push_back(unit_sphere(
-            Vec3((x - centre) * kSpacing + dx, kHalf + 0.1 + y * kSpacing, (z - centre) * kSpacing + dz)));
+        scene.bodies.push_back(
+            unit_sphere(Vec3((x - centre) * kSpacing + dx, kHalf + 0.1 + y * kSpacing, (z - centre) * kSpacing + dz)));
       }
     }
   }
   // Inner faces of the walls at +-(half the grid's width + 1 m).
   const double inner = 0.5 * columns * kSpacing + 1.0;
-  constexpr double kThickness = 0.25;  // half thickness
-  constexpr double kHeight = 15.0;     // half height
+  constexpr double kThickness = 0.25;              // half thickness
+  constexpr double kHeight = 15.0;                 // half height
   const double length = inner + 2.0 * kThickness;  // half length, overlapping at the corners
   scene.walls = {
       {Vec3(kThickness, kHeight, length), Vec3(inner + kThickness, kHeight, 0.0)},

@@ -18,9 +18,9 @@ namespace tumble::bench {
 using Vec3 = Eigen::Vector3d;
 
 inline constexpr double kTimeStep = 1.0 / 60.0;  // s, one step of every engine
-inline constexpr double kGravity = 9.81;          // m/s^2, along -y
-inline constexpr double kFriction = 0.5;          // Coulomb coefficient of every contact
-inline constexpr int kSolverIterations = 10;      // Bullet's and ODE's solver iterations
+inline constexpr double kGravity = 9.81;         // m/s^2, along -y
+inline constexpr double kFriction = 0.5;         // Coulomb coefficient of every contact
+inline constexpr int kSolverIterations = 10;     // Bullet's and ODE's solver iterations
 
 enum class BodyShape { box, sphere };
 

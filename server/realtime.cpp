@@ -72,17 +72,18 @@ sim::Status enter_realtime(int priority) {
   // pthread_setschedparam returns the error rather than setting errno.
   const int error = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
   if (error == 0) return {};
-  std::string message = "the kernel refused SCHED_FIFO at priority " + std::to_string(priority) + " (" +
-                        std::strerror(error) + ")";
+  std::string message =
+      "the kernel refused SCHED_FIFO at priority " + std::to_string(priority) + " (" + std::strerror(error) + ")";
   if (error == EPERM) {
     const std::string p = std::to_string(priority);
     if (holds_cap_sys_nice() || rlimit_allows(priority)) {
       // Permitted to the process, refused all the same: under cgroup v1
       // real-time group scheduling, a group gets no real-time time unless
       // given some (cpu.rt_runtime_us is 0 in a new group).
-      message += ": the process may use it (CAP_SYS_NICE or RLIMIT_RTPRIO), but its control group has no real-time "
-                 "time; give the group some in cpu.rt_runtime_us (cgroup v1; in a container, docker run "
-                 "--cpu-rt-runtime=400000, with dockerd --cpu-rt-runtime set)";
+      message +=
+          ": the process may use it (CAP_SYS_NICE or RLIMIT_RTPRIO), but its control group has no real-time "
+          "time; give the group some in cpu.rt_runtime_us (cgroup v1; in a container, docker run "
+          "--cpu-rt-runtime=400000, with dockerd --cpu-rt-runtime set)";
     } else {
       message += ": it needs CAP_SYS_NICE, or an RLIMIT_RTPRIO of at least " + p + " (ulimit -r " + p +
                  "; in a container, docker run --ulimit rtprio=" + p + ")";

@@ -23,8 +23,8 @@ namespace tumble::bench {
 
 // One change seen: when it was sent and how long until a frame showed it.
 struct LatencySample {
-  double sent_s = 0;              // seconds after the measurement's start
-  double latency_ms = 0;          // send to the arrival of the first frame showing it
+  double sent_s = 0;               // seconds after the measurement's start
+  double latency_ms = 0;           // send to the arrival of the first frame showing it
   std::uint64_t applied_tick = 0;  // the tick the server applied it at (its Ack); 0 when the Ack failed
 };
 

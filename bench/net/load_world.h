@@ -33,8 +33,8 @@ enum class WorldLayout { field, cubes };
 
 struct WorldOptions {
   WorldLayout layout = WorldLayout::field;
-  unsigned bodies = 1000;  // B: the bodies the subscribers follow (the plane and the probe are extra)
-  double moving = 0.1;     // field: F, the fraction that spins
+  unsigned bodies = 1000;         // B: the bodies the subscribers follow (the plane and the probe are extra)
+  double moving = 0.1;            // field: F, the fraction that spins
   bool kinematic_movers = false;  // field: the spinning ones are kinematic, not dynamic
 };
 

@@ -62,7 +62,7 @@ struct Options {
   int subscriber_nice = 10;
   unsigned subscriber_threads = 25;
   bool subscriber_idle = false;
-  std::string latency_log;  // a CSV of every latency sample; none when empty
+  std::string latency_log;   // a CSV of every latency sample; none when empty
   bool stall_watch = false;  // watch for stalls of the machine (stall_watch.h)
 };
 
@@ -127,7 +127,7 @@ struct Subscriber {
   unsigned index = 0;
   tumble::client::Connection connection;
   tumble::client::PoseStream stream;
-  bool first = true;   // no frame yet
+  bool first = true;  // no frame yet
   bool broken = false;
   Tally tally;
 };
@@ -426,7 +426,8 @@ int main(int argc, char** argv) {
       "bytes_per_body_frame=%.2f bytes_per_body_frame_max=%.2f kbit_per_s_per_subscriber=%.1f "
       "frames=%llu frames_expected=%.0f frames_min_percent=%.1f "
       "latency_samples=%zu latency_lost=%llu latency_ms_p50=%.2f latency_ms_p99=%.2f latency_goal_ms=%.2f "
-      "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f tick_cpu_ms_p99=%.2f tick_late_ms_p50=%.2f tick_late_ms_p99=%.2f "
+      "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f tick_cpu_ms_p99=%.2f tick_late_ms_p50=%.2f "
+      "tick_late_ms_p99=%.2f "
       "server_cpu_percent=%s load_cpu_percent=%s commands=%llu errors=%llu",
       options.world.c_str(), options.encoding.c_str(), options.subscribers, options.bodies, options.rate_hz,
       after.tick_rate_hz(), options.seconds,
@@ -437,9 +438,8 @@ int main(int argc, char** argv) {
       tumble::bench::percentile(latency.latencies_ms, 0.5), tumble::bench::percentile(latency.latencies_ms, 0.99),
       goal_ms, static_cast<unsigned long long>(after.overruns() - before.overruns()),
       static_cast<unsigned long long>(after.tick() - before.tick()), after.tick_ms_p50(), after.tick_ms_p99(),
-      after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(),
-      server_cpu.c_str(), own_cpu.c_str(),
-      static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
+      after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(), server_cpu.c_str(),
+      own_cpu.c_str(), static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
   if (options.stall_watch) {
     double longest_ms = 0, total_ms = 0;
     for (const tumble::bench::Stall& stall : stalls) {

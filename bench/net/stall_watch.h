@@ -45,8 +45,7 @@ std::string stall_watch_refusal();
 // and returns the stalls seen, ordered by start, with times relative to
 // `start`. Blocks until `end`. Throws std::runtime_error when a watcher
 // cannot be placed on its CPU or given its priority.
-std::vector<Stall> watch_stalls(std::chrono::steady_clock::time_point start,
-                                std::chrono::steady_clock::time_point end);
+std::vector<Stall> watch_stalls(std::chrono::steady_clock::time_point start, std::chrono::steady_clock::time_point end);
 
 // True when [from_s, to_s] overlaps any of `stalls` (ordered by start).
 bool overlaps_stall(const std::vector<Stall>& stalls, double from_s, double to_s);

@@ -91,9 +91,9 @@ struct StateArguments {
             ->type_name("W X Y Z");
     linear_velocity_option =
         command.add_option("--velocity", linear_velocity, "Linear velocity (m/s), world frame")->type_name("VX VY VZ");
-    angular_velocity_option = command.add_option("--angular-velocity", angular_velocity,
-                                                 "Angular velocity (rad/s), world frame")
-                                  ->type_name("WX WY WZ");
+    angular_velocity_option =
+        command.add_option("--angular-velocity", angular_velocity, "Angular velocity (rad/s), world frame")
+            ->type_name("WX WY WZ");
   }
 };
 
@@ -114,20 +114,20 @@ struct BodyArguments {
   void add_body(CLI::App& command) {
     command.add_option("BODY", body, "Body name, or id when all digits")->required()->check(check_body);
   }
-  void add_vector(CLI::App& command, const std::string& name, const std::string& components,
-                  const std::string& help) {
+  void add_vector(CLI::App& command, const std::string& name, const std::string& components, const std::string& help) {
     command.add_option(name, vector, help)->required()->type_name(components);
   }
   void add_point(CLI::App& command) {
-    at_option = command.add_option("--at", at, "Point of application (m), world frame unless --local; "
-                                               "centre of mass when absent")
+    at_option = command
+                    .add_option("--at", at,
+                                "Point of application (m), world frame unless --local; "
+                                "centre of mass when absent")
                     ->type_name("PX PY PZ");
-    command.add_flag("--local", local, "--at is in the body frame, relative to the centre of mass")
-        ->needs(at_option);
+    command.add_flag("--local", local, "--at is in the body frame, relative to the centre of mass")->needs(at_option);
   }
   void add_duration(CLI::App& command) {
-    seconds_option = command.add_option("--duration", seconds, "Seconds to apply for (rounded to whole ticks)")
-                         ->type_name("S");
+    seconds_option =
+        command.add_option("--duration", seconds, "Seconds to apply for (rounded to whole ticks)")->type_name("S");
     ticks_option = command.add_option("--ticks", ticks, "Ticks to apply for")->type_name("N");
     seconds_option->excludes(ticks_option);
     command.add_flag("--persistent", persistent, "Apply at every tick until `tumble clear`")
@@ -228,8 +228,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
       "--reconnect", reconnect,
       "When the connection is lost or refused, say why on stderr and try again, waiting 0.1 s, then twice as long "
       "each time (with jitter), and subscribe again");
-  subscribe
-      ->add_option("--reconnect-max-wait", reconnect_max_wait, "Longest wait between two attempts to reconnect")
+  subscribe->add_option("--reconnect-max-wait", reconnect_max_wait, "Longest wait between two attempts to reconnect")
       ->capture_default_str()
       ->type_name("S")
       ->check(CLI::Range(0.01, 3600.0))
@@ -368,8 +367,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     command.encoding = pose_encoding(encoding);
     command.events = events;
     command.reconnect = reconnect;
-    command.reconnect_max_wait = std::chrono::round<std::chrono::milliseconds>(
-        std::chrono::duration<double>(reconnect_max_wait));
+    command.reconnect_max_wait =
+        std::chrono::round<std::chrono::milliseconds>(std::chrono::duration<double>(reconnect_max_wait));
     invocation.command = std::move(command);
   } else if (app.got_subcommand(spawn)) {
     SpawnCommand command;

@@ -62,9 +62,9 @@ struct BodiesCommand {};
 // tumble force
 struct ForceCommand {
   tumble::v1::BodyRef body;
-  Vector3 force{};          // N, world frame
+  Vector3 force{};            // N, world frame
   std::optional<Vector3> at;  // m; world frame, or body frame when `local`
-  bool local = false;       // only with `at`
+  bool local = false;         // only with `at`
   Duration duration;
   bool persistent = false;  // every tick until cleared; never with a duration
 };
@@ -91,24 +91,24 @@ struct SubscribeCommand {
   double rate_hz = 30;                      // 0: every tick
   std::optional<std::uint64_t> count;       // stop after this many frames; none: until interrupted
   bool poses_only = false;                  // --fields pose: no velocities
-  tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;  // --encoding
-  bool events = false;                      // --events: every kind of WorldEvent too
-  bool reconnect = false;                   // --reconnect: ride out lost connections
+  tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;       // --encoding
+  bool events = false;                                                      // --events: every kind of WorldEvent too
+  bool reconnect = false;                                                   // --reconnect: ride out lost connections
   std::chrono::milliseconds reconnect_max_wait = kReconnectDefaultMaxWait;  // --reconnect-max-wait
 };
 
 // tumble spawn
 struct SpawnCommand {
-  std::string name;                          // may be empty; never digits only (it would read as an id)
-  tumble::v1::Shape shape;                   // box, sphere or capsule
-  double mass = 1;                           // kg; ignored by the server unless dynamic
-  Vector3 position{};                        // m, centre of mass, world frame (--at)
-  std::optional<Quaternion> orientation;     // identity when absent
-  Vector3 linear_velocity{};                 // m/s, world frame
-  Vector3 angular_velocity{};                // rad/s, world frame
+  std::string name;                       // may be empty; never digits only (it would read as an id)
+  tumble::v1::Shape shape;                // box, sphere or capsule
+  double mass = 1;                        // kg; ignored by the server unless dynamic
+  Vector3 position{};                     // m, centre of mass, world frame (--at)
+  std::optional<Quaternion> orientation;  // identity when absent
+  Vector3 linear_velocity{};              // m/s, world frame
+  Vector3 angular_velocity{};             // rad/s, world frame
   tumble::v1::Motion motion = tumble::v1::MOTION_DYNAMIC;
-  std::optional<double> friction;            // the server's default when absent
-  std::optional<double> restitution;         // the server's default when absent
+  std::optional<double> friction;     // the server's default when absent
+  std::optional<double> restitution;  // the server's default when absent
 };
 
 // tumble remove
@@ -119,7 +119,7 @@ struct RemoveCommand {
 // tumble set: the parts given replace the body's; the others stay.
 struct SetCommand {
   tumble::v1::BodyRef body;
-  std::optional<Vector3> position;          // m
+  std::optional<Vector3> position;  // m
   std::optional<Quaternion> orientation;
   std::optional<Vector3> linear_velocity;   // m/s
   std::optional<Vector3> angular_velocity;  // rad/s
@@ -160,9 +160,9 @@ struct WatchCommand {
   tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;  // --encoding
 };
 
-using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand,
-                             SpawnCommand, RemoveCommand, SetCommand, ClearCommand, PauseCommand, ResumeCommand,
-                             StepCommand, ResetCommand, TickRateCommand, StatsCommand, WatchCommand>;
+using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand, SpawnCommand,
+                             RemoveCommand, SetCommand, ClearCommand, PauseCommand, ResumeCommand, StepCommand,
+                             ResetCommand, TickRateCommand, StatsCommand, WatchCommand>;
 
 // A command to run and the options to run it with.
 struct Invocation {

@@ -101,9 +101,7 @@ std::optional<client::Failure> run(const Invocation& invocation, std::ostream& o
     std::optional<client::Failure> operator()(const ResumeCommand&) const { return run_resume(global, out); }
     std::optional<client::Failure> operator()(const StepCommand& c) const { return run_step(global, c, out); }
     std::optional<client::Failure> operator()(const ResetCommand&) const { return run_reset(global, out); }
-    std::optional<client::Failure> operator()(const TickRateCommand& c) const {
-      return run_tick_rate(global, c, out);
-    }
+    std::optional<client::Failure> operator()(const TickRateCommand& c) const { return run_tick_rate(global, c, out); }
     std::optional<client::Failure> operator()(const StatsCommand&) const { return run_stats(global, out); }
     std::optional<client::Failure> operator()(const WatchCommand& c) const {
       return run_watch(global, c, out, out_is_terminal);
@@ -165,8 +163,7 @@ std::optional<client::Failure> subscribe_once(const GlobalOptions& global, const
   if (!subscribed) return subscribed.failure();
   progress.subscribed = true;
   if (progress.retried) {
-    notes << "tumble: reconnected to " << tumble::to_string(global.server) << " at tick " << list->tick()
-          << std::endl;
+    notes << "tumble: reconnected to " << tumble::to_string(global.server) << " at tick " << list->tick() << std::endl;
   }
 
   StreamHandlers handlers;

@@ -26,8 +26,7 @@ std::optional<client::Failure> run_bodies(const GlobalOptions& global, std::ostr
 std::optional<client::Failure> run_force(const GlobalOptions& global, const ForceCommand& command, std::ostream& out);
 
 // tumble torque: one ApplyTorque, prints the tick it takes effect.
-std::optional<client::Failure> run_torque(const GlobalOptions& global, const TorqueCommand& command,
-                                          std::ostream& out);
+std::optional<client::Failure> run_torque(const GlobalOptions& global, const TorqueCommand& command, std::ostream& out);
 
 // tumble impulse: one ApplyImpulse, prints the tick it takes effect.
 std::optional<client::Failure> run_impulse(const GlobalOptions& global, const ImpulseCommand& command,
@@ -53,8 +52,7 @@ std::optional<client::Failure> run_spawn(const GlobalOptions& global, const Spaw
 
 // tumble remove, set, clear, resume, reset, tick-rate: one request each,
 // printing the tick it takes effect.
-std::optional<client::Failure> run_remove(const GlobalOptions& global, const RemoveCommand& command,
-                                          std::ostream& out);
+std::optional<client::Failure> run_remove(const GlobalOptions& global, const RemoveCommand& command, std::ostream& out);
 std::optional<client::Failure> run_set(const GlobalOptions& global, const SetCommand& command, std::ostream& out);
 std::optional<client::Failure> run_clear(const GlobalOptions& global, const ClearCommand& command, std::ostream& out);
 std::optional<client::Failure> run_resume(const GlobalOptions& global, std::ostream& out);

@@ -142,22 +142,32 @@ BodyNames body_names(const tumble::v1::BodyList& list) {
 
 std::string shape_name(const tumble::v1::Shape& shape) {
   switch (shape.kind_case()) {
-    case tumble::v1::Shape::kBox: return "box";
-    case tumble::v1::Shape::kSphere: return "sphere";
-    case tumble::v1::Shape::kCapsule: return "capsule";
-    case tumble::v1::Shape::kPoints: return "points";
-    case tumble::v1::Shape::kPlane: return "plane";
-    case tumble::v1::Shape::kConvex: return "convex";
-    case tumble::v1::Shape::KIND_NOT_SET: break;
+    case tumble::v1::Shape::kBox:
+      return "box";
+    case tumble::v1::Shape::kSphere:
+      return "sphere";
+    case tumble::v1::Shape::kCapsule:
+      return "capsule";
+    case tumble::v1::Shape::kPoints:
+      return "points";
+    case tumble::v1::Shape::kPlane:
+      return "plane";
+    case tumble::v1::Shape::kConvex:
+      return "convex";
+    case tumble::v1::Shape::KIND_NOT_SET:
+      break;
   }
   return "";
 }
 
 std::string motion_name(tumble::v1::Motion motion) {
   switch (motion) {
-    case tumble::v1::MOTION_STATIC: return "static";
-    case tumble::v1::MOTION_KINEMATIC: return "kinematic";
-    default: return "dynamic";
+    case tumble::v1::MOTION_STATIC:
+      return "static";
+    case tumble::v1::MOTION_KINEMATIC:
+      return "kinematic";
+    default:
+      return "dynamic";
   }
 }
 
@@ -235,12 +245,18 @@ Json stats_json(const tumble::v1::Stats& stats) {
 
 std::string event_kind_name(tumble::v1::WorldEventKind kind) {
   switch (kind) {
-    case tumble::v1::WORLD_EVENT_BODY_SPAWNED: return "spawned";
-    case tumble::v1::WORLD_EVENT_BODY_REMOVED: return "removed";
-    case tumble::v1::WORLD_EVENT_BODY_ASLEEP: return "asleep";
-    case tumble::v1::WORLD_EVENT_BODY_AWAKE: return "awake";
-    case tumble::v1::WORLD_EVENT_WORLD_RESET: return "reset";
-    default: break;
+    case tumble::v1::WORLD_EVENT_BODY_SPAWNED:
+      return "spawned";
+    case tumble::v1::WORLD_EVENT_BODY_REMOVED:
+      return "removed";
+    case tumble::v1::WORLD_EVENT_BODY_ASLEEP:
+      return "asleep";
+    case tumble::v1::WORLD_EVENT_BODY_AWAKE:
+      return "awake";
+    case tumble::v1::WORLD_EVENT_WORLD_RESET:
+      return "reset";
+    default:
+      break;
   }
   return "";
 }
@@ -279,7 +295,8 @@ std::string format_body_table(const tumble::v1::BodyList& list) {
     const double speed = std::sqrt(v.x() * v.x() + v.y() * v.y() + v.z() * v.z());
     const std::string shape = shape_name(body.shape());
     rows.push_back({std::to_string(body.id()), display_name(body.id(), body.name()), shape.empty() ? "-" : shape,
-                    motion_name(body.motion()), fixed(body.mass(), 3), tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3),
+                    motion_name(body.motion()), fixed(body.mass(), 3),
+                    tuple(std::array{p.x(), p.y(), p.z()}, 3, '(', ')'), fixed(speed, 3),
                     body.asleep() ? "yes" : "no"});
   }
 

@@ -9,11 +9,20 @@ void WatchState::load(const tumble::v1::BodyList& list) {
 
 void WatchState::apply(const tumble::v1::WorldEvent& event) {
   switch (event.kind()) {
-    case tumble::v1::WORLD_EVENT_BODY_SPAWNED: bodies_[event.body_id()] = Body{event.body_name(), false}; break;
-    case tumble::v1::WORLD_EVENT_BODY_REMOVED: bodies_.erase(event.body_id()); break;
-    case tumble::v1::WORLD_EVENT_BODY_ASLEEP: bodies_[event.body_id()].asleep = true; break;
-    case tumble::v1::WORLD_EVENT_BODY_AWAKE: bodies_[event.body_id()].asleep = false; break;
-    default: break;
+    case tumble::v1::WORLD_EVENT_BODY_SPAWNED:
+      bodies_[event.body_id()] = Body{event.body_name(), false};
+      break;
+    case tumble::v1::WORLD_EVENT_BODY_REMOVED:
+      bodies_.erase(event.body_id());
+      break;
+    case tumble::v1::WORLD_EVENT_BODY_ASLEEP:
+      bodies_[event.body_id()].asleep = true;
+      break;
+    case tumble::v1::WORLD_EVENT_BODY_AWAKE:
+      bodies_[event.body_id()].asleep = false;
+      break;
+    default:
+      break;
   }
 }
 

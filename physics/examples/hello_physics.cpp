@@ -11,7 +11,7 @@ int main() {
   ground.shape = tp::plane_shape(tp::Vec3::UnitY(), 0.0);  // the plane y = 0, solid below
   world.add_body(ground);
   tp::BodyDesc box;
-  box.shape = tp::box_shape(tp::Vec3(0.5, 0.5, 0.5));  // half extents (m)
+  box.shape = tp::box_shape(tp::Vec3(0.5, 0.5, 0.5));                          // half extents (m)
   box.mass_properties = tp::box_mass_properties(2.0, box.shape.half_extents);  // 2 kg
   box.position = tp::Vec3(0.0, 4.0, 0.0);
   const tp::BodyId id = world.add_body(box);

@@ -23,38 +23,48 @@ void collide_ordered(const Shape& a, const Transform& ta, const Shape& b, const 
   switch (a.type) {
     case ShapeType::sphere:
       switch (b.type) {
-        case ShapeType::sphere: return collide_spheres(a, ta, b, tb, max_separation, m);
-        case ShapeType::capsule: return collide_sphere_capsule(a, ta, b, tb, max_separation, m);
-        case ShapeType::box: return collide_sphere_box(a, ta, b, tb, max_separation, m);
-        case ShapeType::convex_hull: return collide_sphere_hull(a, ta, b, tb, max_separation, m);
-        default: return;
+        case ShapeType::sphere:
+          return collide_spheres(a, ta, b, tb, max_separation, m);
+        case ShapeType::capsule:
+          return collide_sphere_capsule(a, ta, b, tb, max_separation, m);
+        case ShapeType::box:
+          return collide_sphere_box(a, ta, b, tb, max_separation, m);
+        case ShapeType::convex_hull:
+          return collide_sphere_hull(a, ta, b, tb, max_separation, m);
+        default:
+          return;
       }
     case ShapeType::capsule:
       switch (b.type) {
-        case ShapeType::capsule: return collide_capsules(a, ta, b, tb, max_separation, m);
+        case ShapeType::capsule:
+          return collide_capsules(a, ta, b, tb, max_separation, m);
         case ShapeType::box: {
           const BoxPolyhedron box(b.half_extents);
           return collide_capsule_polyhedron(a, ta, box.view(), tb, max_separation, m);
         }
         case ShapeType::convex_hull:
           return collide_capsule_polyhedron(a, ta, polyhedron_of(*b.hull), tb, max_separation, m);
-        default: return;
+        default:
+          return;
       }
     case ShapeType::box:
       switch (b.type) {
-        case ShapeType::box: return collide_boxes(a, ta, b, tb, max_separation, m);
+        case ShapeType::box:
+          return collide_boxes(a, ta, b, tb, max_separation, m);
         case ShapeType::convex_hull: {
           const BoxPolyhedron box(a.half_extents);
           return collide_polyhedra(box.view(), ta, polyhedron_of(*b.hull), tb, max_separation, m);
         }
-        default: return;
+        default:
+          return;
       }
     case ShapeType::convex_hull:
       if (b.type == ShapeType::convex_hull) {
         return collide_polyhedra(polyhedron_of(*a.hull), ta, polyhedron_of(*b.hull), tb, max_separation, m);
       }
       return;
-    default: return;
+    default:
+      return;
   }
 }
 
@@ -62,12 +72,18 @@ void collide_ordered(const Shape& a, const Transform& ta, const Shape& b, const 
 
 int collide_order(ShapeType type) {
   switch (type) {
-    case ShapeType::sphere: return 0;
-    case ShapeType::capsule: return 1;
-    case ShapeType::box: return 2;
-    case ShapeType::convex_hull: return 3;
-    case ShapeType::plane: return 4;
-    case ShapeType::none: return 5;
+    case ShapeType::sphere:
+      return 0;
+    case ShapeType::capsule:
+      return 1;
+    case ShapeType::box:
+      return 2;
+    case ShapeType::convex_hull:
+      return 3;
+    case ShapeType::plane:
+      return 4;
+    case ShapeType::none:
+      return 5;
   }
   return 5;
 }

@@ -71,8 +71,8 @@ bool capsule_on_face(const Polyhedron& poly, std::uint32_t f, const Vec3& s0, co
 
 }  // namespace
 
-void collide_capsules(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
-                      double max_separation, Manifold& m) {
+void collide_capsules(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,
+                      Manifold& m) {
   m.point_count = 0;
   Vec3 p0, p1, q0, q1;
   segment_of(a, ta, &p0, &p1);
@@ -182,8 +182,7 @@ void collide_capsule_polyhedron(const Shape& a, const Transform& ta, const Polyh
     if (length <= 1e-9 * dir.norm() * (v1 - v0).norm()) continue;
     axis /= length;
     if (axis.dot(v0 - center) < 0) axis = -axis;
-    const double separation =
-        std::min(axis.dot(s0), axis.dot(s1)) - axis.dot(poly.vertices[poly.support(axis)]) - r;
+    const double separation = std::min(axis.dot(s0), axis.dot(s1)) - axis.dot(poly.vertices[poly.support(axis)]) - r;
     if (separation > best_edge) best_edge = separation, edge = e, edge_axis = axis;
   }
   if (std::max(best_face, best_edge) > max_separation) return;
@@ -204,8 +203,7 @@ void collide_capsule_polyhedron(const Shape& a, const Transform& ta, const Polyh
     return;
   }
   Vec3 c1, c2;
-  closest_points_of_segments(s0, s1, poly.vertices[poly.edges[edge].v0], poly.vertices[poly.edges[edge].v1], &c1,
-                             &c2);
+  closest_points_of_segments(s0, s1, poly.vertices[poly.edges[edge].v0], poly.vertices[poly.edges[edge].v1], &c1, &c2);
   m.normal = -(tb.rotation * edge_axis);
   ManifoldPoint& p = m.points[0];
   p.point_a = tb.apply(c1 - r * edge_axis);

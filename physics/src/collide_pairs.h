@@ -15,12 +15,12 @@ void collide_spheres(const Shape& a, const Transform& ta, const Shape& b, const 
                      Manifold& m);
 void collide_sphere_capsule(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
                             double max_separation, Manifold& m);
-void collide_sphere_box(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
-                        double max_separation, Manifold& m);
+void collide_sphere_box(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,
+                        Manifold& m);
 void collide_sphere_hull(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
                          double max_separation, Manifold& m);
-void collide_capsules(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
-                      double max_separation, Manifold& m);
+void collide_capsules(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,
+                      Manifold& m);
 void collide_capsule_polyhedron(const Shape& a, const Transform& ta, const Polyhedron& b, const Transform& tb,
                                 double max_separation, Manifold& m);
 void collide_boxes(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,

@@ -72,8 +72,8 @@ std::uint32_t incident_face(const Polyhedron& poly, const Transform& t, const Ve
 }
 
 // One point at the closest points of edges a0a1 (on A) and b0b1 (on B).
-void edge_contact(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, const Vec3& normal,
-                  std::uint32_t id, Manifold& m) {
+void edge_contact(const Vec3& a0, const Vec3& a1, const Vec3& b0, const Vec3& b1, const Vec3& normal, std::uint32_t id,
+                  Manifold& m) {
   Vec3 ca, cb;
   closest_points_of_segments(a0, a1, b0, b1, &ca, &cb);
   m.normal = normal;
@@ -163,7 +163,7 @@ void collide_boxes(const Shape& a, const Transform& ta, const Shape& b, const Tr
   }
   if (prefer(sep_b, sep_a, kFaceTolerance)) {
     // B's face is the reference; its outward normal points towards A.
-    const Vec3 t_in_b = c.transpose() * t;  // B's centre relative to A, in B's frame
+    const Vec3 t_in_b = c.transpose() * t;     // B's centre relative to A, in B's frame
     const bool positive = t_in_b[axis_b] < 0;  // A lies on B's +axis side
     const std::uint32_t ref_face = static_cast<std::uint32_t>(2 * axis_b + (positive ? 1 : 0));
     const Vec3 normal = tb.rotation * pb.faces[ref_face].normal;

@@ -45,15 +45,15 @@ void collide_sphere_capsule(const Shape& a, const Transform& ta, const Shape& b,
   collide_points(ta.position, a.radius, q, b.radius, max_separation, m);
 }
 
-void collide_sphere_box(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb,
-                        double max_separation, Manifold& m) {
+void collide_sphere_box(const Shape& a, const Transform& ta, const Shape& b, const Transform& tb, double max_separation,
+                        Manifold& m) {
   m.point_count = 0;
   const Vec3& h = b.half_extents;
   const double r = a.radius;
   const Vec3 c = tb.apply_inverse(ta.position);  // sphere centre in the box frame
-  const Vec3 q = c.cwiseMax(-h).cwiseMin(h);      // closest point of the box (Ericson 5.1.3)
-  Vec3 outward;                                   // unit, box frame, from the box towards the centre
-  Vec3 surface;                                   // point of the box surface, box frame
+  const Vec3 q = c.cwiseMax(-h).cwiseMin(h);     // closest point of the box (Ericson 5.1.3)
+  Vec3 outward;                                  // unit, box frame, from the box towards the centre
+  Vec3 surface;                                  // point of the box surface, box frame
   double separation;
   if (q != c) {
     const Vec3 d = c - q;

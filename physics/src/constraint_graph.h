@@ -43,8 +43,8 @@ class ConstraintGraph {
  private:
   // Row c holds a bit per body slot: set when colour c moves that body.
   std::vector<std::uint64_t> bits_;
-  std::vector<std::uint32_t> colour_of_;  // by constraint
-  std::vector<std::uint32_t> order_;      // constraints colour by colour
+  std::vector<std::uint32_t> colour_of_;     // by constraint
+  std::vector<std::uint32_t> order_;         // constraints colour by colour
   std::uint32_t start_[kOverflow + 2] = {};  // colour c's members are order_[start_[c], start_[c + 1])
 };
 

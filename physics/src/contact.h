@@ -53,9 +53,9 @@ struct Contact {
   // The relative pose at the last full collision test; while the bodies'
   // relative pose stays close to it the manifold is re-evaluated from the
   // anchors instead of recomputed (Jolt's body pair cache).
-  Vec3 cached_position = Vec3::Zero();          // B's centre in A's frame
-  Quat cached_rotation = Quat::Identity();      // q_a^-1 q_b
-  double cached_max_separation = -1;            // < 0: no cache
+  Vec3 cached_position = Vec3::Zero();      // B's centre in A's frame
+  Quat cached_rotation = Quat::Identity();  // q_a^-1 q_b
+  double cached_max_separation = -1;        // < 0: no cache
 };
 
 }  // namespace tumble::physics

@@ -123,8 +123,8 @@ void ContactSolver::solve_pass(const Group& group, bool soft) {
       WidePoint& p = points[k];
       // Separation now: the start value plus the relative motion of the two
       // contact points along the normal.
-      const Float4 s = p.separation + moved + dot4(p.normal.jacobian_b, mb.rotation) -
-                       dot4(p.normal.jacobian_a, ma.rotation);
+      const Float4 s =
+          p.separation + moved + dot4(p.normal.jacobian_b, mb.rotation) - dot4(p.normal.jacobian_a, ma.rotation);
       const Float4 vn = dot4(w.normal, b.linear - a.linear) + dot4(p.normal.jacobian_b, b.angular) -
                         dot4(p.normal.jacobian_a, a.angular);
       // The target (contact_solver.h): a speculative point (s > 0) may close
@@ -139,8 +139,8 @@ void ContactSolver::solve_pass(const Group& group, bool soft) {
       } else {
         bias = select4(speculative, bias, zero);
       }
-      const Float4 accumulated = max4(
-          p.normal.impulse - p.normal.mass * mass_scale * (vn + bias) - impulse_scale * p.normal.impulse, zero);
+      const Float4 accumulated =
+          max4(p.normal.impulse - p.normal.mass * mass_scale * (vn + bias) - impulse_scale * p.normal.impulse, zero);
       const Float4 d = accumulated - p.normal.impulse;
       p.normal.impulse = accumulated;
       p.max_normal_impulse = max4(p.max_normal_impulse, accumulated);
@@ -227,7 +227,8 @@ void ContactSolver::store_impulses(const Group& group) const {
       for (std::uint32_t k = 0; k < c.point_count; ++k) {
         const WidePoint& p = points[k];
         contact.normal_impulse[k] = p.normal.impulse[lane];
-        contact.tangent_impulse[k] = double{p.tangent1.impulse[lane]} * tangent1 + double{p.tangent2.impulse[lane]} * tangent2;
+        contact.tangent_impulse[k] =
+            double{p.tangent1.impulse[lane]} * tangent1 + double{p.tangent2.impulse[lane]} * tangent2;
       }
     }
   }

@@ -81,12 +81,12 @@
 namespace tumble::physics {
 
 struct ContactSolverSettings {
-  int substeps = 4;          // >= 1
-  int iterations = 1;        // soft passes per substep, >= 1
-  int relax_iterations = 1;  // rigid passes per substep, >= 0
-  double contact_hertz = 30;   // stiffness of the push out of overlap (Hz); capped at a quarter of the substep rate
-  double damping_ratio = 10;   // of that push
-  double max_push_speed = 3;   // m/s
+  int substeps = 4;           // >= 1
+  int iterations = 1;         // soft passes per substep, >= 1
+  int relax_iterations = 1;   // rigid passes per substep, >= 0
+  double contact_hertz = 30;  // stiffness of the push out of overlap (Hz); capped at a quarter of the substep rate
+  double damping_ratio = 10;  // of that push
+  double max_push_speed = 3;  // m/s
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
 };
 

@@ -167,9 +167,8 @@ std::shared_ptr<const ConvexHull> build_convex_hull(std::span<const Vec3> input)
     }
     for (std::size_t f : visible) triangles[f].alive = false;
     for (const auto& edge : visible_edges) {
-      const bool interior =
-          std::find(visible_edges.begin(), visible_edges.end(), std::make_pair(edge.second, edge.first)) !=
-          visible_edges.end();
+      const bool interior = std::find(visible_edges.begin(), visible_edges.end(),
+                                      std::make_pair(edge.second, edge.first)) != visible_edges.end();
       if (!interior) triangles.push_back(make_triangle(points, edge.first, edge.second, p));
     }
   }

@@ -50,7 +50,7 @@ class DynamicTree {
     std::int32_t parent = kNull;  // also the free-list link of a free node
     std::int32_t child1 = kNull;  // kNull for leaves
     std::int32_t child2 = kNull;
-    std::int32_t height = 0;      // 0 for leaves, -1 for free nodes
+    std::int32_t height = 0;  // 0 for leaves, -1 for free nodes
     std::uint32_t user = 0;
     bool is_leaf() const { return child1 == kNull; }
   };

@@ -167,8 +167,12 @@ GjkResult gjk_distance(std::span<const Vec3> a, std::span<const Vec3> b) {
     s.weight[s.count] = 0;
     ++s.count;
     switch (s.count) {
-      case 2: solve_segment(s); break;
-      case 3: solve_triangle(s, 0, 1, 2); break;
+      case 2:
+        solve_segment(s);
+        break;
+      case 3:
+        solve_triangle(s, 0, 1, 2);
+        break;
       default:
         if (!solve_tetrahedron(s)) {
           result.overlap = true;

@@ -19,11 +19,11 @@ struct SolverVelocity {
 // Per-body inputs, all indexed by dense body index. Static and kinematic
 // bodies have inverse mass 0 and a zero inverse inertia.
 struct ContactSolverBodies {
-  std::span<const double> inverse_mass;            // 1/M
-  std::span<const Mat3> inverse_inertia;           // I^-1 in the world frame, this step
-  std::span<const Transform> transforms;           // centre of mass position this step
-  std::span<const double> friction;                // coefficient of each body
-  std::span<const double> restitution;             // coefficient of each body
+  std::span<const double> inverse_mass;             // 1/M
+  std::span<const Mat3> inverse_inertia;            // I^-1 in the world frame, this step
+  std::span<const Transform> transforms;            // centre of mass position this step
+  std::span<const double> friction;                 // coefficient of each body
+  std::span<const double> restitution;              // coefficient of each body
   std::span<const SolverVelocity> external_change;  // change of v and w over the step from gravity and forces
 };
 

@@ -8,8 +8,8 @@
 namespace tumble::physics {
 
 struct Transform {
-  Vec3 position = Vec3::Zero();        // origin of the body frame in the world (m)
-  Mat3 rotation = Mat3::Identity();    // columns are the body axes in the world
+  Vec3 position = Vec3::Zero();      // origin of the body frame in the world (m)
+  Mat3 rotation = Mat3::Identity();  // columns are the body axes in the world
 
   Vec3 apply(const Vec3& local) const { return rotation * local + position; }
   Vec3 apply_inverse(const Vec3& world) const { return rotation.transpose() * (world - position); }

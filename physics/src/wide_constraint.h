@@ -133,8 +133,7 @@ using SolverBodyField = float (SolverBody::*)[4];
 
 // That vector of the bodies in slots index[0..3], lane by lane.
 inline Vec3x4 gather(const SolverBody* slots, const std::uint32_t (&index)[kLanes], SolverBodyField field) {
-  return transpose_rows(slots[index[0]].*field, slots[index[1]].*field, slots[index[2]].*field,
-                        slots[index[3]].*field);
+  return transpose_rows(slots[index[0]].*field, slots[index[1]].*field, slots[index[2]].*field, slots[index[3]].*field);
 }
 
 inline WideVelocity gather_velocity(const SolverBody* slots, const std::uint32_t (&index)[kLanes]) {
@@ -156,8 +155,9 @@ inline void scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[kLa
   const Float4 xy23 = __builtin_shufflevector(v.linear.x, v.linear.y, 2, 6, 3, 7);
   const Float4 z01 = __builtin_shufflevector(v.linear.z, zero, 0, 4, 1, 5);  // z0 0 z1 0
   const Float4 z23 = __builtin_shufflevector(v.linear.z, zero, 2, 6, 3, 7);
-  const Float4 linear[4] = {__builtin_shufflevector(xy01, z01, 0, 1, 4, 5), __builtin_shufflevector(xy01, z01, 2, 3, 6, 7),
-                            __builtin_shufflevector(xy23, z23, 0, 1, 4, 5), __builtin_shufflevector(xy23, z23, 2, 3, 6, 7)};
+  const Float4 linear[4] = {
+      __builtin_shufflevector(xy01, z01, 0, 1, 4, 5), __builtin_shufflevector(xy01, z01, 2, 3, 6, 7),
+      __builtin_shufflevector(xy23, z23, 0, 1, 4, 5), __builtin_shufflevector(xy23, z23, 2, 3, 6, 7)};
   const Float4 axy01 = __builtin_shufflevector(v.angular.x, v.angular.y, 0, 4, 1, 5);
   const Float4 axy23 = __builtin_shufflevector(v.angular.x, v.angular.y, 2, 6, 3, 7);
   const Float4 az01 = __builtin_shufflevector(v.angular.z, zero, 0, 4, 1, 5);

@@ -73,9 +73,7 @@ void WorkerTeam::work(std::uint32_t job) {
     fn(context, task);
     done_.fetch_add(1);
     if (owner_sleeping_.load()) {
-      {
-        std::lock_guard lock(mutex_);
-      }
+      { std::lock_guard lock(mutex_); }
       owner_wake_.notify_one();
     }
     claim = claim_.load(std::memory_order_acquire);

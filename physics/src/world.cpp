@@ -24,12 +24,17 @@ constexpr std::size_t kTouchingContactsPerBody = 2;
 
 double bounding_radius_of(const Shape& shape) {
   switch (shape.type) {
-    case ShapeType::sphere: return shape.radius;
-    case ShapeType::box: return shape.half_extents.norm();
-    case ShapeType::capsule: return shape.half_height + shape.radius;
-    case ShapeType::convex_hull: return shape.hull ? shape.hull->bounding_radius : 0.0;
+    case ShapeType::sphere:
+      return shape.radius;
+    case ShapeType::box:
+      return shape.half_extents.norm();
+    case ShapeType::capsule:
+      return shape.half_height + shape.radius;
+    case ShapeType::convex_hull:
+      return shape.hull ? shape.hull->bounding_radius : 0.0;
     case ShapeType::none:
-    case ShapeType::plane: return 0.0;
+    case ShapeType::plane:
+      return 0.0;
   }
   return 0.0;
 }
@@ -66,7 +71,8 @@ Aabb World::Impl::shape_aabb(std::size_t i) const {
   const Shape& shape = shapes_[i];
   const Transform& t = transforms_[i];
   switch (shape.type) {
-    case ShapeType::sphere: return Aabb{t.position.array() - shape.radius, t.position.array() + shape.radius};
+    case ShapeType::sphere:
+      return Aabb{t.position.array() - shape.radius, t.position.array() + shape.radius};
     case ShapeType::box: {
       // Half extents of the rotated box: |R| h (Ericson 4.2.6).
       const Vec3 extent = t.rotation.cwiseAbs() * shape.half_extents;
@@ -83,7 +89,8 @@ Aabb World::Impl::shape_aabb(std::size_t i) const {
       return Aabb{center - extent, center + extent};
     }
     case ShapeType::none:
-    case ShapeType::plane: break;
+    case ShapeType::plane:
+      break;
   }
   return Aabb{t.position, t.position};
 }
@@ -288,7 +295,7 @@ Vec3 World::Impl::angular_velocity_at(std::size_t i) const {
 }
 
 void World::Impl::copy_poses(BodyId* ids, double* positions, double* orientations, double* linear_velocities,
-                       double* angular_velocities) const {
+                             double* angular_velocities) const {
   for (std::size_t i = 0; i < states_.size(); ++i) {
     const BodyState& state = states_[i];
     ids[i] = dense_to_id_[i];
@@ -336,7 +343,7 @@ void World::Impl::set_friction(BodyId id, double friction) { frictions_[dense_in
 void World::Impl::set_restitution(BodyId id, double restitution) { restitutions_[dense_index(id)] = restitution; }
 
 void World::Impl::set_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_velocity,
-                      const Vec3& angular_velocity) {
+                            const Vec3& angular_velocity) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   BodyState& state = states_[i];
   BodyRecord& record = records_[i];
@@ -433,7 +440,7 @@ void World::Impl::set_next_body_id(BodyId next) {
 }
 
 void World::Impl::restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
-                          const Vec3& angular_momentum, bool awake, double sleep_time) {
+                                const Vec3& angular_momentum, bool awake, double sleep_time) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   BodyState& state = states_[i];
   // Taken as given, not re-normalised: normalising a unit quaternion again

@@ -263,10 +263,10 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
     world_plane(shapes_[b], transforms_[b], &normal, &offset);
     overlap = lowest_height(aabbs_[a], normal, offset) <= settings_.aabb_margin;
   } else {
-    const Aabb& fat_a = (records_[a].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
-                            .fat_aabb(records_[a].proxy);
-    const Aabb& fat_b = (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
-                            .fat_aabb(records_[b].proxy);
+    const Aabb& fat_a =
+        (records_[a].motion_type == MotionType::static_body ? static_tree_ : movable_tree_).fat_aabb(records_[a].proxy);
+    const Aabb& fat_b =
+        (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_).fat_aabb(records_[b].proxy);
     overlap = fat_a.overlaps(fat_b);
     // aabbs_[i] holds body i's shape grown by its reach this step (a
     // body not stepped has reach 0 and its box from when it last moved).

@@ -16,7 +16,6 @@
 #include "contact_solver.h"
 #include "dynamic_tree.h"
 #include "transform.h"
-#include "worker_team.h"
 #include "tumble/physics/body.h"
 #include "tumble/physics/math.h"
 #include "tumble/physics/shape.h"
@@ -24,6 +23,7 @@
 #include "tumble/physics/task_system.h"
 #include "tumble/physics/world.h"
 #include "tumble/physics/world_settings.h"
+#include "worker_team.h"
 
 namespace tumble::physics {
 
@@ -93,7 +93,7 @@ class World::Impl {
   // Collision and sleep bookkeeping of one body.
   struct BodyRecord {
     MotionType motion_type = MotionType::dynamic_body;
-    bool moved = false;    // fat box replaced in this step's broadphase
+    bool moved = false;          // fat box replaced in this step's broadphase
     double sleep_time = 0;       // s spent slower than sleep_speed
     double bounding_radius = 0;  // m, of the shape about the centre of mass
     double reach = 0;            // m the body can travel this step (0 unless awake_)
@@ -170,7 +170,7 @@ class World::Impl {
   std::vector<double> inverse_masses_;      // 1/M for dynamic bodies, else 0
   std::vector<double> frictions_;
   std::vector<double> restitutions_;
-  std::vector<Aabb> aabbs_;                 // box grown by reach, this step (awake bodies)
+  std::vector<Aabb> aabbs_;  // box grown by reach, this step (awake bodies)
   // 1 while the body is stepped: dynamic and not asleep, or kinematic and
   // moving. Apart from the records so that the passes over every body that
   // skip those at rest read a byte a body, not a record (a world of 10,000

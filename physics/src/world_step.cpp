@@ -81,7 +81,8 @@ void World::Impl::solve_contacts(double dt) {
   solver_settings.damping_ratio = settings_.contact_damping_ratio;
   solver_settings.max_push_speed = settings_.max_push_speed;
   solver_settings.restitution_threshold = settings_.restitution_threshold;
-  const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_, frictions_, restitutions_, external_};
+  const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_,
+                                   frictions_,      restitutions_,    external_};
   solver_.prepare(contacts_, links_, active_, bodies, dt, solver_settings);
   stats_.solved_contacts = solver_.constraint_count();
   stats_.solved_points = solver_.point_count();

@@ -65,9 +65,12 @@ FrameStatus FrameReader::next(std::string_view& body) {
   std::uint64_t length = 0;
   std::size_t prefix = 0;
   switch (read_varint(pending, length, prefix)) {
-    case VarintStatus::need_more: return FrameStatus::need_more;
-    case VarintStatus::bad: return FrameStatus::bad_length;
-    case VarintStatus::ok: break;
+    case VarintStatus::need_more:
+      return FrameStatus::need_more;
+    case VarintStatus::bad:
+      return FrameStatus::bad_length;
+    case VarintStatus::ok:
+      break;
   }
   if (length > max_frame_bytes_) {
     declared_bytes_ = length;

@@ -140,7 +140,9 @@ std::optional<QuantizedPoses> decode_quantized_poses(std::string_view bytes) {
   bytes.remove_prefix(3);
 
   BitReader bits(bytes);
-  const auto signed_level = [](std::uint64_t raw) { return static_cast<std::int16_t>(static_cast<std::uint16_t>(raw)); };
+  const auto signed_level = [](std::uint64_t raw) {
+    return static_cast<std::int16_t>(static_cast<std::uint16_t>(raw));
+  };
   for (QuantizedBody& body : poses.bodies) {
     for (std::size_t a = 0; a < 3; ++a) {
       const auto offset = bits.read(width[a]);

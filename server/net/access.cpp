@@ -64,10 +64,11 @@ bool role_may(tumble::v1::Role role, ClientMessage::KindCase kind) {
 std::string observer_denial(ClientMessage::KindCase kind) {
   // A oneof case's value is its field number, which names the request.
   const auto* field = ClientMessage::descriptor()->FindFieldByNumber(static_cast<int>(kind));
-  const std::string name = field != nullptr && field->message_type() != nullptr ? field->message_type()->name()
-                                                                                 : "this request";
-  return name + " needs the controller token; an observer may only list bodies, subscribe, unsubscribe and "
-                "read stats";
+  const std::string name =
+      field != nullptr && field->message_type() != nullptr ? field->message_type()->name() : "this request";
+  return name +
+         " needs the controller token; an observer may only list bodies, subscribe, unsubscribe and "
+         "read stats";
 }
 
 }  // namespace tumble::net

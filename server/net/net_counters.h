@@ -12,8 +12,9 @@
 namespace tumble::net {
 
 struct NetCounters {
-  std::size_t clients = 0;       // open connections, handshaking and refused ones included
-  std::uint64_t bytes_sent = 0;  // protocol messages written to clients since the server started, WebSocket framing included
+  std::size_t clients = 0;  // open connections, handshaking and refused ones included
+  std::uint64_t bytes_sent =
+      0;  // protocol messages written to clients since the server started, WebSocket framing included
 
   // Writes the network's fields into a Stats.
   void fill(tumble::v1::Stats& stats) const {

@@ -74,7 +74,7 @@ class OutboundQueue {
   DeltaEncoder& encoder_of(std::uint32_t stream);
 
   std::vector<std::string> messages_;
-  std::vector<FrameSlot> frames_;  // at most one per stream, in arrival order
+  std::vector<FrameSlot> frames_;           // at most one per stream, in arrival order
   std::vector<DeltaStream> delta_streams_;  // one per DELTA stream this client is on
   std::size_t message_bytes_ = 0;
   std::uint64_t frames_replaced_ = 0;

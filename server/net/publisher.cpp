@@ -11,11 +11,16 @@ namespace {
 
 tumble::v1::WorldEventKind wire_kind(sim::WorldEventKind kind) {
   switch (kind) {
-    case sim::WorldEventKind::body_spawned: return tumble::v1::WORLD_EVENT_BODY_SPAWNED;
-    case sim::WorldEventKind::body_removed: return tumble::v1::WORLD_EVENT_BODY_REMOVED;
-    case sim::WorldEventKind::body_asleep: return tumble::v1::WORLD_EVENT_BODY_ASLEEP;
-    case sim::WorldEventKind::body_awake: return tumble::v1::WORLD_EVENT_BODY_AWAKE;
-    case sim::WorldEventKind::world_reset: return tumble::v1::WORLD_EVENT_WORLD_RESET;
+    case sim::WorldEventKind::body_spawned:
+      return tumble::v1::WORLD_EVENT_BODY_SPAWNED;
+    case sim::WorldEventKind::body_removed:
+      return tumble::v1::WORLD_EVENT_BODY_REMOVED;
+    case sim::WorldEventKind::body_asleep:
+      return tumble::v1::WORLD_EVENT_BODY_ASLEEP;
+    case sim::WorldEventKind::body_awake:
+      return tumble::v1::WORLD_EVENT_BODY_AWAKE;
+    case sim::WorldEventKind::world_reset:
+      return tumble::v1::WORLD_EVENT_WORLD_RESET;
   }
   return tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED;
 }
@@ -49,8 +54,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   for (const tumble::v1::BodyRef& ref : request.bodies()) {
     const physics::BodyId id = sim_.resolve(ref);
     if (id == physics::kInvalidBodyId) {
-      return sim::RequestError{tumble::v1::UNKNOWN_BODY,
-                               "no " + sim::BodyDirectory::describe(ref) + " in the world"};
+      return sim::RequestError{tumble::v1::UNKNOWN_BODY, "no " + sim::BodyDirectory::describe(ref) + " in the world"};
     }
     bodies.push_back(id);
   }
@@ -70,8 +74,8 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   }
 
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) {
-    return s.all_bodies == all_bodies && s.bodies == bodies && s.period_ticks == period &&
-           s.velocities == velocities && s.event_kinds == event_kinds && s.encoding == encoding;
+    return s.all_bodies == all_bodies && s.bodies == bodies && s.period_ticks == period && s.velocities == velocities &&
+           s.event_kinds == event_kinds && s.encoding == encoding;
   });
   if (it == streams_.end()) {
     Stream stream;
@@ -87,8 +91,8 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
     it = std::prev(streams_.end());
     update_sim_interest();
   }
-  const bool already_member = std::any_of(it->members.begin(), it->members.end(),
-                                          [&](const Member& m) { return m.key == session.get(); });
+  const bool already_member =
+      std::any_of(it->members.begin(), it->members.end(), [&](const Member& m) { return m.key == session.get(); });
   if (!already_member) it->members.push_back({session.get(), session});
   it->awaiting_first.push_back({session.get(), session});
   const Subscription subscription{it->id, period, tick_rate / period, encoding};
@@ -100,8 +104,8 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
 bool Publisher::request_key_frame(const std::shared_ptr<Session>& session, std::uint32_t stream_id) {
   serve_fanouts(true);  // what a session gets stays in order
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) { return s.id == stream_id; });
-  if (it == streams_.end() || std::none_of(it->members.begin(), it->members.end(),
-                                           [&](const Member& m) { return m.key == session.get(); })) {
+  if (it == streams_.end() ||
+      std::none_of(it->members.begin(), it->members.end(), [&](const Member& m) { return m.key == session.get(); })) {
     return false;
   }
   it->awaiting_first.push_back({session.get(), session});
@@ -212,10 +216,10 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
     // Regular frames fall on multiples of the period; a frame whose
     // snapshot was superseded in the handoff is made up by the next one.
     // An edit while paused is shown to every stream at once.
-    const bool regular = (snapshot.tick > stream.last_tick &&
-                          (snapshot.tick % stream.period_ticks == 0 ||
-                           snapshot.tick - stream.last_tick > stream.period_ticks)) ||
-                         (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
+    const bool regular =
+        (snapshot.tick > stream.last_tick &&
+         (snapshot.tick % stream.period_ticks == 0 || snapshot.tick - stream.last_tick > stream.period_ticks)) ||
+        (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
     if (!regular && stream.awaiting_first.empty()) continue;
     if (!snapshot.covers(stream.all_bodies, stream.bodies)) {
       // A larger snapshot of this tick follows; or this one was

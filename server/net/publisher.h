@@ -107,14 +107,14 @@ class Publisher {
     bool all_bodies = true;
     std::vector<physics::BodyId> bodies;  // sorted, when !all_bodies
     std::uint32_t period_ticks = 1;
-    bool velocities = true;               // POSE_FIELDS_POSE_AND_VELOCITY
+    bool velocities = true;  // POSE_FIELDS_POSE_AND_VELOCITY
     tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;
-    std::uint32_t event_kinds = 0;        // bit k set: events of tumble.v1.WorldEventKind k
-    std::uint64_t last_tick = 0;          // tick of the last regular frame
-    std::uint64_t frames_made = 0;        // DELTA: the sequence number of the last QuantizedFrame made
+    std::uint32_t event_kinds = 0;  // bit k set: events of tumble.v1.WorldEventKind k
+    std::uint64_t last_tick = 0;    // tick of the last regular frame
+    std::uint64_t frames_made = 0;  // DELTA: the sequence number of the last QuantizedFrame made
     std::vector<Member> members;
-    std::vector<Member> awaiting_first;   // joined since the last frame
-    QuantizeMemo memo;                    // QUANTIZED and DELTA: the bodies of its last frame on the grids
+    std::vector<Member> awaiting_first;  // joined since the last frame
+    QuantizeMemo memo;                   // QUANTIZED and DELTA: the bodies of its last frame on the grids
   };
 
   // A frame on its way to the members of a stream.
@@ -123,7 +123,7 @@ class Publisher {
     std::shared_ptr<const std::string> bytes;     // FULL or QUANTIZED, framed
     std::shared_ptr<const QuantizedFrame> delta;  // DELTA: each session encodes its own
     std::vector<std::weak_ptr<Session>> targets;
-    std::size_t next = 0;                         // targets served so far
+    std::size_t next = 0;  // targets served so far
   };
 
   // Hands queued frames to their sessions: all of them, or for one slice
@@ -150,13 +150,13 @@ class Publisher {
   const std::chrono::microseconds fanout_slice_;
   std::vector<Stream> streams_;
   std::uint32_t next_stream_id_ = 1;
-  std::deque<Fanout> fanouts_;   // in the order they were made
-  bool fanout_posted_ = false;   // a serve_fanouts() handler is queued
+  std::deque<Fanout> fanouts_;  // in the order they were made
+  bool fanout_posted_ = false;  // a serve_fanouts() handler is queued
 
   std::mutex handoff_mutex_;
-  std::shared_ptr<const sim::Snapshot> latest_;                    // guarded by handoff_mutex_
-  std::vector<std::shared_ptr<const sim::WorldEvents>> events_;    // guarded by handoff_mutex_
-  bool publish_posted_ = false;                                    // guarded by handoff_mutex_
+  std::shared_ptr<const sim::Snapshot> latest_;                      // guarded by handoff_mutex_
+  std::vector<std::shared_ptr<const sim::WorldEvents>> events_;      // guarded by handoff_mutex_
+  bool publish_posted_ = false;                                      // guarded by handoff_mutex_
   std::vector<std::shared_ptr<const sim::WorldEvents>> delivering_;  // I/O thread's swap partner of events_
 };
 

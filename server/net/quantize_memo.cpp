@@ -16,8 +16,7 @@ inline bool same_bits(const double* a, const double* b, std::size_t n) {
 }  // namespace
 
 std::vector<wire::QuantizedBody> QuantizeMemo::quantize(const sim::Snapshot& snapshot, bool all_bodies,
-                                                        const std::vector<physics::BodyId>& filter,
-                                                        bool velocities) {
+                                                        const std::vector<physics::BodyId>& filter, bool velocities) {
   const std::size_t per_body = values_per_body(velocities);
   next_ids_.clear();
   next_values_.clear();

@@ -42,9 +42,9 @@ class QuantizeMemo {
   // with velocities linear 3 and angular 3.
   static std::size_t values_per_body(bool velocities) { return velocities ? 13 : 7; }
 
-  std::vector<physics::BodyId> ids_;           // in the last snapshot's order
-  std::vector<double> values_;                 // values_per_body() a body, in that order
-  std::vector<wire::QuantizedBody> records_;   // in that order
+  std::vector<physics::BodyId> ids_;          // in the last snapshot's order
+  std::vector<double> values_;                // values_per_body() a body, in that order
+  std::vector<wire::QuantizedBody> records_;  // in that order
   // The lists being made, swapped with the above at the end of a call.
   std::vector<physics::BodyId> next_ids_;
   std::vector<double> next_values_;

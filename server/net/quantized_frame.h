@@ -27,11 +27,11 @@ struct QuantizedFrame {
   double sim_time = 0;  // s
   bool velocities = false;
   std::vector<wire::QuantizedBody> bodies;  // sorted by id
-  std::uint64_t sequence = 0;  // 1, 2, 3, ... for the frames of one stream, in the order they were made
+  std::uint64_t sequence = 0;               // 1, 2, 3, ... for the frames of one stream, in the order they were made
 
   // Framed ServerMessages, filled by the first session that needs each.
-  mutable std::shared_ptr<const std::string> key_bytes;      // this frame as a key frame
-  mutable std::shared_ptr<const std::string> change_bytes;   // the change from frame sequence - 1
+  mutable std::shared_ptr<const std::string> key_bytes;     // this frame as a key frame
+  mutable std::shared_ptr<const std::string> change_bytes;  // the change from frame sequence - 1
 };
 
 }  // namespace tumble::net

@@ -41,10 +41,9 @@ sim::Status Server::start() {
   port_ = acceptor_.local_endpoint().port();
   net_log().info("listening on {}:{}", config_.host, port_);
   if (config_.serve_http) {
-    http_ = std::make_unique<HttpListener>(io_, config_.http_host, config_.http_port, config_.max_connections,
-                                           [this](std::unique_ptr<Transport> transport) {
-                                             admit(std::move(transport));
-                                           });
+    http_ =
+        std::make_unique<HttpListener>(io_, config_.http_host, config_.http_port, config_.max_connections,
+                                       [this](std::unique_ptr<Transport> transport) { admit(std::move(transport)); });
     if (auto status = http_->start(); !status.ok()) {
       http_.reset();
       boost::system::error_code ignored;
@@ -109,9 +108,9 @@ void Server::admit(std::unique_ptr<Transport> transport) {
   });
   if (full) {
     refused_.emplace(id, session);
-    session->refuse(tumble::v1::RESOURCE_EXHAUSTED,
-                    "the server is at its limit of " + std::to_string(config_.max_connections) +
-                        " connections; try again later");
+    session->refuse(
+        tumble::v1::RESOURCE_EXHAUSTED,
+        "the server is at its limit of " + std::to_string(config_.max_connections) + " connections; try again later");
     return;
   }
   sessions_.emplace(id, session);

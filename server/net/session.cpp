@@ -104,8 +104,8 @@ void Session::on_read(const boost::system::error_code& error, std::size_t bytes)
 bool Session::handle_frame(std::string_view body) {
   ClientMessage message;
   if (!message.ParseFromArray(body.data(), static_cast<int>(body.size()))) {
-    fail(tumble::v1::MALFORMED_FRAME, "a frame of " + std::to_string(body.size()) +
-                                          " bytes is not a valid tumble.v1.ClientMessage");
+    fail(tumble::v1::MALFORMED_FRAME,
+         "a frame of " + std::to_string(body.size()) + " bytes is not a valid tumble.v1.ClientMessage");
     return false;
   }
   if (!greeted_) {
@@ -335,8 +335,8 @@ void Session::write_more() {
   write_buffers_.clear();
   for (std::string_view piece : in_flight_.pieces) write_buffers_.emplace_back(piece.data(), piece.size());
   writing_ = true;
-  transport_->async_write(write_buffers_,
-                          [self = shared_from_this()](const boost::system::error_code& error) { self->on_written(error); });
+  transport_->async_write(
+      write_buffers_, [self = shared_from_this()](const boost::system::error_code& error) { self->on_written(error); });
 }
 
 void Session::on_written(const boost::system::error_code& error) {

@@ -143,8 +143,8 @@ class Session : public std::enable_shared_from_this<Session> {
   bool closed_ = false;
   const std::chrono::steady_clock::time_point connected_at_;
   tumble::v1::Role role_ = tumble::v1::ROLE_UNSPECIFIED;  // set by the Hello
-  TokenBucket command_budget_;  // requests this client may still send now
-  bool rate_limited_ = false;   // the last request was refused for its rate (logged once per episode)
+  TokenBucket command_budget_;                            // requests this client may still send now
+  bool rate_limited_ = false;  // the last request was refused for its rate (logged once per episode)
 
   OutboundQueue outbound_;
   OutboundQueue::Batch in_flight_;

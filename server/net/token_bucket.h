@@ -24,9 +24,9 @@ class TokenBucket {
   bool try_take(Clock::time_point now);
 
  private:
-  double rate_;     // tokens per second
-  double burst_;    // the most tokens the bucket holds
-  double tokens_;   // tokens left at last_
+  double rate_;             // tokens per second
+  double burst_;            // the most tokens the bucket holds
+  double tokens_;           // tokens left at last_
   Clock::time_point last_;  // when tokens_ was last brought up to date
 };
 

@@ -26,9 +26,12 @@ physics::BodyId BodyDirectory::id_of(const std::string& name) const {
 
 physics::BodyId BodyDirectory::resolve(const tumble::v1::BodyRef& ref) const {
   switch (ref.ref_case()) {
-    case tumble::v1::BodyRef::kId: return entries_.count(ref.id()) ? ref.id() : physics::kInvalidBodyId;
-    case tumble::v1::BodyRef::kName: return id_of(ref.name());
-    case tumble::v1::BodyRef::REF_NOT_SET: break;
+    case tumble::v1::BodyRef::kId:
+      return entries_.count(ref.id()) ? ref.id() : physics::kInvalidBodyId;
+    case tumble::v1::BodyRef::kName:
+      return id_of(ref.name());
+    case tumble::v1::BodyRef::REF_NOT_SET:
+      break;
   }
   return physics::kInvalidBodyId;
 }

@@ -14,9 +14,9 @@ namespace tumble::sim {
 
 // What a client is told about a body besides its state.
 struct BodyEntry {
-  std::string name;            // may be empty
-  tumble::v1::Shape shape;     // as it was specified
-  double mass = 0;             // kg
+  std::string name;         // may be empty
+  tumble::v1::Shape shape;  // as it was specified
+  double mass = 0;          // kg
 };
 
 class BodyDirectory {

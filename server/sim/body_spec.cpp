@@ -28,8 +28,7 @@ physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()};
 
 }  // namespace
 
-Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where,
-                           physics::BodyDesc* desc) {
+Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where, physics::BodyDesc* desc) {
   *desc = physics::BodyDesc{};
   const tumble::v1::Shape& shape = spec.shape();
   const std::string shape_path = where + ".shape";
@@ -39,10 +38,17 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
     return Status::error(shape_path + ": expected one of box, sphere, capsule, points, plane, convex");
   }
   switch (spec.motion()) {
-    case tumble::v1::MOTION_DYNAMIC: desc->motion_type = physics::MotionType::dynamic_body; break;
-    case tumble::v1::MOTION_STATIC: desc->motion_type = physics::MotionType::static_body; break;
-    case tumble::v1::MOTION_KINEMATIC: desc->motion_type = physics::MotionType::kinematic_body; break;
-    default: return Status::error(where + ".motion: unknown motion type " + std::to_string(spec.motion()));
+    case tumble::v1::MOTION_DYNAMIC:
+      desc->motion_type = physics::MotionType::dynamic_body;
+      break;
+    case tumble::v1::MOTION_STATIC:
+      desc->motion_type = physics::MotionType::static_body;
+      break;
+    case tumble::v1::MOTION_KINEMATIC:
+      desc->motion_type = physics::MotionType::kinematic_body;
+      break;
+    default:
+      return Status::error(where + ".motion: unknown motion type " + std::to_string(spec.motion()));
   }
   const bool dynamic = desc->motion_type == physics::MotionType::dynamic_body;
   if (shape.kind_case() == tumble::v1::Shape::kPlane && dynamic) {
@@ -100,8 +106,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       desc->shape.type = physics::ShapeType::capsule;
       desc->shape.radius = capsule.radius();
       desc->shape.half_height = capsule.half_height();
-      desc->mass_properties =
-          physics::capsule_mass_properties(mass, capsule.radius(), capsule.half_height());
+      desc->mass_properties = physics::capsule_mass_properties(mass, capsule.radius(), capsule.half_height());
       break;
     }
     case tumble::v1::Shape::kPoints: {
@@ -214,9 +219,12 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
 
 tumble::v1::Motion wire_motion(physics::MotionType type) {
   switch (type) {
-    case physics::MotionType::static_body: return tumble::v1::MOTION_STATIC;
-    case physics::MotionType::kinematic_body: return tumble::v1::MOTION_KINEMATIC;
-    case physics::MotionType::dynamic_body: break;
+    case physics::MotionType::static_body:
+      return tumble::v1::MOTION_STATIC;
+    case physics::MotionType::kinematic_body:
+      return tumble::v1::MOTION_KINEMATIC;
+    case physics::MotionType::dynamic_body:
+      break;
   }
   return tumble::v1::MOTION_DYNAMIC;
 }

@@ -25,8 +25,7 @@ inline constexpr int kMaxConvexPoints = 4096;
 
 // Fills `desc` from `spec`. `where` names the body in errors, e.g.
 // "bodies[3]"; messages name the offending field below it.
-Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where,
-                           physics::BodyDesc* desc);
+Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& where, physics::BodyDesc* desc);
 
 // The wire's name for how a body moves.
 tumble::v1::Motion wire_motion(physics::MotionType type);

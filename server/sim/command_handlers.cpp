@@ -51,20 +51,48 @@ void Simulation::apply(Command& command) {
   const ClientMessage& message = command.message;
   std::optional<ServerMessage> reply;
   switch (message.kind_case()) {
-    case ClientMessage::kApplyForce: reply = apply_force(message); break;
-    case ClientMessage::kApplyTorque: reply = apply_torque(message); break;
-    case ClientMessage::kApplyImpulse: reply = apply_impulse(message); break;
-    case ClientMessage::kListBodies: reply = list_bodies(message); break;
-    case ClientMessage::kSpawnBody: reply = spawn_body(command); break;
-    case ClientMessage::kRemoveBody: reply = remove_body(message); break;
-    case ClientMessage::kSetBodyState: reply = set_body_state(message); break;
-    case ClientMessage::kClearForces: reply = clear_forces(message); break;
-    case ClientMessage::kPause: reply = pause(message); break;
-    case ClientMessage::kResume: reply = resume(message); break;
-    case ClientMessage::kStep: reply = step(command); break;
-    case ClientMessage::kReset: reply = reset(message); break;
-    case ClientMessage::kSetTickRate: reply = set_tick_rate(message); break;
-    case ClientMessage::kGetStats: reply = stats(message); break;
+    case ClientMessage::kApplyForce:
+      reply = apply_force(message);
+      break;
+    case ClientMessage::kApplyTorque:
+      reply = apply_torque(message);
+      break;
+    case ClientMessage::kApplyImpulse:
+      reply = apply_impulse(message);
+      break;
+    case ClientMessage::kListBodies:
+      reply = list_bodies(message);
+      break;
+    case ClientMessage::kSpawnBody:
+      reply = spawn_body(command);
+      break;
+    case ClientMessage::kRemoveBody:
+      reply = remove_body(message);
+      break;
+    case ClientMessage::kSetBodyState:
+      reply = set_body_state(message);
+      break;
+    case ClientMessage::kClearForces:
+      reply = clear_forces(message);
+      break;
+    case ClientMessage::kPause:
+      reply = pause(message);
+      break;
+    case ClientMessage::kResume:
+      reply = resume(message);
+      break;
+    case ClientMessage::kStep:
+      reply = step(command);
+      break;
+    case ClientMessage::kReset:
+      reply = reset(message);
+      break;
+    case ClientMessage::kSetTickRate:
+      reply = set_tick_rate(message);
+      break;
+    case ClientMessage::kGetStats:
+      reply = stats(message);
+      break;
     default:
       reply = error_reply(message, tumble::v1::UNKNOWN_MESSAGE, "the simulation does not handle this request");
       break;
@@ -72,8 +100,7 @@ void Simulation::apply(Command& command) {
   if (reply && command.reply) command.reply(std::move(*reply));
 }
 
-std::uint32_t Simulation::duration_ticks(bool has_seconds, double seconds, bool has_ticks,
-                                         std::uint32_t ticks) const {
+std::uint32_t Simulation::duration_ticks(bool has_seconds, double seconds, bool has_ticks, std::uint32_t ticks) const {
   // The longest timed load: one tick more would read as persistent.
   constexpr std::uint32_t kLongest = BodyLoad::kPersistent - 1;
   if (has_ticks) return std::min(ticks, kLongest);
@@ -88,8 +115,8 @@ ServerMessage Simulation::apply_force(const ClientMessage& message) {
   const auto& m = message.apply_force();
   const physics::BodyId body = directory_.resolve(m.body());
   if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
-                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+  const std::uint32_t ticks =
+      m.persistent() ? BodyLoad::kPersistent : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
   loads_.add_force(body, to_vec3(m.force()), body_point(world_, body, m.has_point(), m.point(), m.point_frame()),
                    ticks);
   return ack_reply(message, next_tick_ + 1);
@@ -99,8 +126,8 @@ ServerMessage Simulation::apply_torque(const ClientMessage& message) {
   const auto& m = message.apply_torque();
   const physics::BodyId body = directory_.resolve(m.body());
   if (body == physics::kInvalidBodyId) return unknown_body(message, m.body());
-  const std::uint32_t ticks = m.persistent() ? BodyLoad::kPersistent
-                                             : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
+  const std::uint32_t ticks =
+      m.persistent() ? BodyLoad::kPersistent : duration_ticks(m.has_seconds(), m.seconds(), m.has_ticks(), m.ticks());
   loads_.add_torque(body, to_vec3(m.torque()), ticks);
   return ack_reply(message, next_tick_ + 1);
 }
@@ -156,14 +183,15 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   const tumble::v1::BodySpec& spec = message.spawn_body().body();
   if (world_.body_count() >= config_.max_bodies) {
     return error_reply(message, tumble::v1::RESOURCE_EXHAUSTED,
-                 "the world already holds " + std::to_string(world_.body_count()) + " bodies, the most allowed");
+                       "the world already holds " + std::to_string(world_.body_count()) + " bodies, the most allowed");
   }
   if (world_.next_body_id() >= kMaxBodyIds) {
     return error_reply(message, tumble::v1::RESOURCE_EXHAUSTED,
-                 "the world has handed out all of the " + std::to_string(kMaxBodyIds) + " body ids it may");
+                       "the world has handed out all of the " + std::to_string(kMaxBodyIds) + " body ids it may");
   }
   if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
-    return error_reply(message, tumble::v1::INVALID_ARGUMENT, "body.name: '" + spec.name() + "' is used by another body");
+    return error_reply(message, tumble::v1::INVALID_ARGUMENT,
+                       "body.name: '" + spec.name() + "' is used by another body");
   }
   physics::BodyDesc converted;
   const physics::BodyDesc* desc = command.body_desc.get();
@@ -258,7 +286,7 @@ std::optional<ServerMessage> Simulation::step(Command& command) {
   }
   if (steps_left_ > 0) {
     return error_reply(message, tumble::v1::FAILED_PRECONDITION,
-                 "a Step is under way with " + std::to_string(steps_left_) + " ticks left");
+                       "a Step is under way with " + std::to_string(steps_left_) + " ticks left");
   }
   steps_left_ = message.step().ticks();
   step_command_ = std::move(command);

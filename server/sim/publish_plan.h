@@ -16,8 +16,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "tumble/physics/body.h"
 #include "sim/publish_interest.h"
+#include "tumble/physics/body.h"
 
 namespace tumble::sim {
 
@@ -52,10 +52,10 @@ class PublishPlan {
 
  private:
   std::vector<PublishInterest> interests_;
-  std::size_t early_bodies_ = 0;              // the line between small and large interests
-  std::vector<std::size_t> due_;              // indices in interests_ of those due at the planned tick
-  std::vector<physics::BodyId> early_;        // the small due interests' bodies, when a larger one is due too
-  std::vector<physics::BodyId> wanted_;       // every due interest's bodies (collect_wanted)
+  std::size_t early_bodies_ = 0;         // the line between small and large interests
+  std::vector<std::size_t> due_;         // indices in interests_ of those due at the planned tick
+  std::vector<physics::BodyId> early_;   // the small due interests' bodies, when a larger one is due too
+  std::vector<physics::BodyId> wanted_;  // every due interest's bodies (collect_wanted)
   std::vector<physics::BodyId> merge_scratch_;
 };
 

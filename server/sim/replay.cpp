@@ -18,8 +18,8 @@ Status run_until(Simulation& sim, std::uint64_t tick) {
     }
   }
   if (sim.tick() > tick) {
-    return Status::error("the journal has a command at tick " + std::to_string(tick) + " but the world is past it, at " +
-                         std::to_string(sim.tick()));
+    return Status::error("the journal has a command at tick " + std::to_string(tick) +
+                         " but the world is past it, at " + std::to_string(sim.tick()));
   }
   return {};
 }

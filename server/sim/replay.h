@@ -14,9 +14,9 @@
 namespace tumble::sim {
 
 struct ReplaySummary {
-  std::uint64_t commands = 0;   // recorded commands executed again
-  std::uint64_t end_tick = 0;   // the tick the replay stopped at
-  bool complete = false;        // the journal ended with its end record (not torn)
+  std::uint64_t commands = 0;  // recorded commands executed again
+  std::uint64_t end_tick = 0;  // the tick the replay stopped at
+  bool complete = false;       // the journal ended with its end record (not torn)
 };
 
 // Feeds the rest of `journal` (its header already read, `sim` built from

@@ -29,8 +29,8 @@ std::optional<RequestError> check_vec3(const tumble::v1::Vec3& v, const char* fi
 std::optional<RequestError> check_quat(const tumble::v1::Quat& q, const char* field) {
   const double norm = std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z());
   if (std::isfinite(norm) && std::abs(norm - 1.0) <= 1e-3) return std::nullopt;
-  return invalid(std::string(field) + " must be a unit quaternion [w, x, y, z], got [" + std::to_string(q.w()) +
-                 ", " + std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + "]");
+  return invalid(std::string(field) + " must be a unit quaternion [w, x, y, z], got [" + std::to_string(q.w()) + ", " +
+                 std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + "]");
 }
 
 std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool present) {
@@ -42,8 +42,7 @@ std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool 
 }
 
 // Duration oneofs are alike in every timed message: seconds or ticks.
-std::optional<RequestError> check_duration(bool has_seconds, double seconds, bool has_ticks,
-                                           std::uint32_t ticks) {
+std::optional<RequestError> check_duration(bool has_seconds, double seconds, bool has_ticks, std::uint32_t ticks) {
   if (has_seconds && !(std::isfinite(seconds) && seconds > 0 && seconds <= kMaxDurationSeconds)) {
     return invalid("duration must be a finite number of seconds in (0, 1e6], got " + std::to_string(seconds));
   }

@@ -18,12 +18,9 @@ struct SceneError {
   std::string message;
 };
 
-[[noreturn]] void fail(const std::string& path, const std::string& what) {
-  throw SceneError{path + ": " + what};
-}
+[[noreturn]] void fail(const std::string& path, const std::string& what) { throw SceneError{path + ": " + what}; }
 
-void require_object(const json& value, const std::string& path,
-                    std::initializer_list<std::string_view> known_fields) {
+void require_object(const json& value, const std::string& path, std::initializer_list<std::string_view> known_fields) {
   if (!value.is_object()) fail(path, "expected an object");
   for (const auto& item : value.items()) {
     bool known = false;

@@ -17,8 +17,7 @@ double milliseconds(std::chrono::steady_clock::duration d) {
 
 }  // namespace
 
-Status Simulation::create(const tumble::v1::Scene& scene, const SimConfig& config,
-                          std::unique_ptr<Simulation>* out) {
+Status Simulation::create(const tumble::v1::Scene& scene, const SimConfig& config, std::unique_ptr<Simulation>* out) {
   if (!std::isfinite(config.tick_rate_hz) || config.tick_rate_hz < kMinTickRateHz ||
       config.tick_rate_hz > kMaxTickRateHz) {
     return Status::error("tick rate must be from 1 to 10000 Hz");
@@ -139,8 +138,8 @@ void Simulation::start() {
       // scheduling (SCHED_FIFO under --realtime-priority): the step waits for
       // an island a helper has begun, and a helper behind ordinary processes
       // would stall it.
-      [this] { world_.set_thread_count(config_.physics_threads); },
-      [this](double late_ms) { run_pass(late_ms); }, [this] { return tick_rate_hz(); });
+      [this] { world_.set_thread_count(config_.physics_threads); }, [this](double late_ms) { run_pass(late_ms); },
+      [this] { return tick_rate_hz(); });
 }
 
 void Simulation::stop() {

@@ -74,8 +74,7 @@ class Simulation {
   // Builds the world of `scene`, which it keeps for Reset; fails with a
   // message naming the body and field when the scene does not describe a
   // valid world or holds more than max_bodies bodies.
-  static Status create(const tumble::v1::Scene& scene, const SimConfig& config,
-                       std::unique_ptr<Simulation>* out);
+  static Status create(const tumble::v1::Scene& scene, const SimConfig& config, std::unique_ptr<Simulation>* out);
   // Resumes a saved world exactly (world_state.h): bodies, loads, tick, sim
   // time, tick rate (config.tick_rate_hz is ignored) and paused; Reset goes
   // back to the scene saved with it.
@@ -223,20 +222,20 @@ class Simulation {
   BodyLoads loads_;
   BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
   std::vector<Command> draining_;
-  PublishPlan plan_;                    // holds the sim thread's copy of published_interest_
-  std::uint64_t next_tick_ = 0;         // sim-thread copy of tick_
-  double dt_;                           // s, 1 / tick rate
-  std::uint64_t rate_since_tick_ = 0;   // the tick at which dt_ took effect
-  double rate_since_time_ = 0;          // s, sim time at that tick
+  PublishPlan plan_;                   // holds the sim thread's copy of published_interest_
+  std::uint64_t next_tick_ = 0;        // sim-thread copy of tick_
+  double dt_;                          // s, 1 / tick rate
+  std::uint64_t rate_since_tick_ = 0;  // the tick at which dt_ took effect
+  double rate_since_time_ = 0;         // s, sim time at that tick
   bool paused_ = false;
-  std::uint32_t steps_left_ = 0;        // ticks of the Step under way
-  Command step_command_;                // the Step under way, answered when steps_left_ reaches 0
-  bool edited_ = false;                 // the world was edited since the last snapshot
-  SleepWatch sleep_;                    // watching while sleep_events_wanted_
-  WorldEvents events_;                  // of the tick being made
+  std::uint32_t steps_left_ = 0;  // ticks of the Step under way
+  Command step_command_;          // the Step under way, answered when steps_left_ reaches 0
+  bool edited_ = false;           // the world was edited since the last snapshot
+  SleepWatch sleep_;              // watching while sleep_events_wanted_
+  WorldEvents events_;            // of the tick being made
   TickTiming timing_;
   bool replaying_ = false;
-  RunRecord record_;                    // the journal and the checkpoints
+  RunRecord record_;  // the journal and the checkpoints
   SnapshotListener listener_;
   WorldEventListener event_listener_;
 

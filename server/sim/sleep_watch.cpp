@@ -28,8 +28,8 @@ void SleepWatch::scan(const physics::World& world, const BodyDirectory& director
     const std::uint8_t awake = world.is_awake(id) ? 1 : 0;
     if (awake == awake_[id]) continue;
     awake_[id] = awake;
-    events->push_back({tick, awake ? WorldEventKind::body_awake : WorldEventKind::body_asleep, id,
-                       directory.name_of(id)});
+    events->push_back(
+        {tick, awake ? WorldEventKind::body_awake : WorldEventKind::body_asleep, id, directory.name_of(id)});
   }
 }
 

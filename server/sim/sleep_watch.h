@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "tumble/physics/world.h"
 #include "sim/body_directory.h"
 #include "sim/world_event.h"
+#include "tumble/physics/world.h"
 
 namespace tumble::sim {
 

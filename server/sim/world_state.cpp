@@ -16,14 +16,11 @@ void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
 
 physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-bool finite(const tumble::v1::Vec3& v) {
-  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
-}
+bool finite(const tumble::v1::Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
 }  // namespace
 
-tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory,
-                                   physics::BodyId id) {
+tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id) {
   tumble::v1::BodySpec spec;
   if (const BodyEntry* entry = directory.find(id)) {
     spec.set_name(entry->name);

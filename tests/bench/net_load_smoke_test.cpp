@@ -189,10 +189,12 @@ TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
   ASSERT_FALSE(outside_stalls_ms.empty());
   const double p99 = number(report, "latency_ms_p99_outside_stalls");
   const auto rank = static_cast<std::ptrdiff_t>(std::ceil(0.99 * static_cast<double>(outside_stalls_ms.size())));
-  EXPECT_GE(std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l <= p99 + 0.005; }),
-            rank);
-  EXPECT_LT(std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l < p99 - 0.005; }),
-            rank);
+  EXPECT_GE(
+      std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l <= p99 + 0.005; }),
+      rank);
+  EXPECT_LT(
+      std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l < p99 - 0.005; }),
+      rank);
   // The stall figures agree with each other: a whole count, each stall
   // longer than the 2 ms that makes one (bench/net/stall_watch.h) and none
   // longer than the longest; none at all when no sample spans one. (The
@@ -227,9 +229,9 @@ TEST(NetLoadSmoke, StallWatchRefusedFailsFirst) {
 // (No server listens on port 1: had it connected first, the error would be
 // the refused connection.)
 TEST(NetLoadSmoke, UnwritableLatencyLogFailsFirst) {
-  const CommandResult result = run_command(
-      {TUMBLE_NET_LOAD_PATH, "--server", "127.0.0.1:1", "--latency-log", "/nonexistent-dir/latency.csv"},
-      std::chrono::seconds(30));
+  const CommandResult result =
+      run_command({TUMBLE_NET_LOAD_PATH, "--server", "127.0.0.1:1", "--latency-log", "/nonexistent-dir/latency.csv"},
+                  std::chrono::seconds(30));
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.err.find("/nonexistent-dir/latency.csv"), std::string::npos) << result.err;
   EXPECT_EQ(result.out, "");

@@ -8,8 +8,8 @@
 #include <string>
 #include <string_view>
 
-#include <boost/asio.hpp>
 #include <gtest/gtest.h>
+#include <boost/asio.hpp>
 
 #include "scripted_messages.h"
 #include "scripted_server.h"

@@ -22,10 +22,35 @@ using testing::parse;
 using testing::parse_command;
 
 TEST(SpawnCommandLine, EveryOption) {
-  const auto spawn = parse_command<SpawnCommand>(
-      {"spawn", "rock", "--capsule", "0.2", "0.5", "--mass", "3", "--at", "1", "2", "3", "--orientation", "0", "1",
-       "0", "0", "--velocity", "4", "5", "6", "--angular-velocity", "7", "8", "9", "--kinematic", "--friction", "0.1",
-       "--restitution", "0.9"});
+  const auto spawn = parse_command<SpawnCommand>({"spawn",
+                                                  "rock",
+                                                  "--capsule",
+                                                  "0.2",
+                                                  "0.5",
+                                                  "--mass",
+                                                  "3",
+                                                  "--at",
+                                                  "1",
+                                                  "2",
+                                                  "3",
+                                                  "--orientation",
+                                                  "0",
+                                                  "1",
+                                                  "0",
+                                                  "0",
+                                                  "--velocity",
+                                                  "4",
+                                                  "5",
+                                                  "6",
+                                                  "--angular-velocity",
+                                                  "7",
+                                                  "8",
+                                                  "9",
+                                                  "--kinematic",
+                                                  "--friction",
+                                                  "0.1",
+                                                  "--restitution",
+                                                  "0.9"});
   EXPECT_EQ(spawn.name, "rock");
   ASSERT_TRUE(spawn.shape.has_capsule());
   EXPECT_EQ(spawn.shape.capsule().radius(), 0.2);
@@ -68,8 +93,8 @@ TEST(SpawnCommandLine, UsageErrors) {
 }
 
 TEST(ControlCommandLine, SetGivesOnlyWhatWasTyped) {
-  const auto set = parse_command<SetCommand>({"set", "3", "--position", "1", "2", "3", "--angular-velocity", "0", "0",
-                                              "1"});
+  const auto set =
+      parse_command<SetCommand>({"set", "3", "--position", "1", "2", "3", "--angular-velocity", "0", "0", "1"});
   EXPECT_EQ(set.body.id(), 3u);
   ASSERT_TRUE(set.position);
   EXPECT_EQ(*set.position, (Vector3{1, 2, 3}));

@@ -37,7 +37,8 @@ using Xs = std::vector<std::pair<std::uint32_t, float>>;
 
 TEST(PoseStream, QuantizedFramesStandAlone) {
   PoseStream stream;
-  const auto sample = stream.decode(frame_of(tumble::v1::POSE_ENCODING_QUANTIZED, 8, {body_at(1, 0.5), body_at(2, -1)}));
+  const auto sample =
+      stream.decode(frame_of(tumble::v1::POSE_ENCODING_QUANTIZED, 8, {body_at(1, 0.5), body_at(2, -1)}));
   ASSERT_TRUE(sample) << sample.failure().message;
   EXPECT_EQ(sample->tick, 8u);
   EXPECT_EQ(sample->subscription_id, 4u);

@@ -32,8 +32,7 @@ inline tumble::v1::ServerMessage ack(std::uint64_t request_id, std::uint64_t app
   return message;
 }
 
-inline tumble::v1::ServerMessage error(std::uint64_t request_id, tumble::v1::ErrorCode code,
-                                       const std::string& text) {
+inline tumble::v1::ServerMessage error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text) {
   tumble::v1::ServerMessage message;
   message.mutable_error()->set_request_id(request_id);
   message.mutable_error()->set_code(code);

@@ -50,8 +50,7 @@ std::optional<tumble::v1::ClientMessage> ServerPeer::receive() {
     }
     if (status != wire::FrameStatus::need_more) return std::nullopt;
     std::size_t received = 0;
-    const auto error = run([this](auto handler) { socket_.async_read_some(asio::buffer(buffer_), handler); },
-                           received);
+    const auto error = run([this](auto handler) { socket_.async_read_some(asio::buffer(buffer_), handler); }, received);
     if (error) return std::nullopt;
     reader_.append(buffer_, received);
   }
@@ -70,8 +69,7 @@ void ServerPeer::send_bytes(std::string_view bytes) {
 void ServerPeer::wait_for_close() {
   for (;;) {
     std::size_t received = 0;
-    const auto error = run([this](auto handler) { socket_.async_read_some(asio::buffer(buffer_), handler); },
-                           received);
+    const auto error = run([this](auto handler) { socket_.async_read_some(asio::buffer(buffer_), handler); }, received);
     if (error) {
       EXPECT_NE(error, asio::error::timed_out) << "the client did not close the connection";
       return;

@@ -46,8 +46,9 @@ constexpr double kTickRate = 240;
 // awake (the physics works every tick) and never collide.
 std::string sphere_grid(int spheres) {
   std::ostringstream scene;
-  scene << R"({"gravity": [0, 0, 0], "bodies": [)"
-        << R"({"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2, "position": [0, -100, 0]})";
+  scene
+      << R"({"gravity": [0, 0, 0], "bodies": [)"
+      << R"({"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2, "position": [0, -100, 0]})";
   for (int i = 0; i < spheres; ++i) {
     scene << R"(, {"name": "s)" << i << R"(", "shape": {"sphere": {"radius": 0.5}}, "mass": 1,)"
           << R"( "position": [)" << 3 * (i % 50) << ", " << 3 * (i / 50) << ", 0],"
@@ -165,8 +166,9 @@ TEST_F(BadInput, GarbageBeforeHelloIsMalformed) {
   {
     // An HTTP request: 'G' reads as a length of 71, and those 71 bytes are no ClientMessage.
     RawClient client(server.port());
-    ASSERT_TRUE(client.send_bytes("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUser-Agent: curl/7.88.1\r\n"
-                                  "Accept: */*\r\nConnection: keep-alive\r\n\r\n"));
+    ASSERT_TRUE(
+        client.send_bytes("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUser-Agent: curl/7.88.1\r\n"
+                          "Accept: */*\r\nConnection: keep-alive\r\n\r\n"));
     ExpectRefusedAndClosed(client, tumble::v1::MALFORMED_FRAME);
   }
   {
@@ -329,8 +331,8 @@ TEST_F(BadInput, TokensComeFromTheEnvironmentToo) {
 }
 
 TEST_F(BadInput, LimitAndTokenFlagsAreChecked) {
-  const CommandResult same = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--token", "same",
-                                          "--observer-token", "same"});
+  const CommandResult same =
+      run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--token", "same", "--observer-token", "same"});
   EXPECT_EQ(same.exit_code, 2);
   EXPECT_NE(same.err.find("must differ"), std::string::npos) << same.err;
   for (const char* flag : {"--max-connections", "--max-commands-per-second", "--handshake-timeout",
@@ -346,8 +348,7 @@ TEST_F(BadInput, WithoutTokensEveryoneControlsAndTheLogSaysSo) {
   const auto welcome = greet(client, "any token at all");
   ASSERT_TRUE(welcome && welcome->has_welcome()) << describe(welcome);
   EXPECT_EQ(welcome->welcome().role(), tumble::v1::ROLE_CONTROLLER);
-  EXPECT_NE(server.log().find("every client that connects may control the world"), std::string::npos)
-      << server.log();
+  EXPECT_NE(server.log().find("every client that connects may control the world"), std::string::npos) << server.log();
 }
 
 TEST_F(BadInput, AnObserverMayWatchButNotPush) {
@@ -468,8 +469,7 @@ TEST_F(BadInput, ConnectionsOverTheLimitAreRefusedAndTheOthersGoOn) {
     const auto reply = extra.read(seconds(10));
     ASSERT_TRUE(reply && reply->has_error()) << describe(reply);
     EXPECT_EQ(reply->error().code(), tumble::v1::RESOURCE_EXHAUSTED);
-    EXPECT_NE(reply->error().message().find("limit of 3 connections"), std::string::npos)
-        << reply->error().message();
+    EXPECT_NE(reply->error().message().find("limit of 3 connections"), std::string::npos) << reply->error().message();
     EXPECT_TRUE(extra.closed_by_server());
   }
   for (std::uint64_t i = 0; i < clients.size(); ++i) {
@@ -647,8 +647,8 @@ TEST_F(BadInput, SlowNeverReadingSubscriberForThirtySeconds) {
   const double expected_frames = ticks / period;
   std::cout << "[ figures  ] never-reading subscriber, " << kBodies << " bodies, " << wall << " s: RSS "
             << baseline / (1024 * 1024) << " MiB + " << growth_mib << " MiB at peak; ticks " << ticks << " ("
-            << 100 * tick_ratio << "% of " << kTickRate << " Hz); reader frames " << frames << " of "
-            << expected_frames << " (" << 100 * frames / expected_frames << "%)" << std::endl;
+            << 100 * tick_ratio << "% of " << kTickRate << " Hz); reader frames " << frames << " of " << expected_frames
+            << " (" << 100 * frames / expected_frames << "%)" << std::endl;
   EXPECT_LT(growth_mib, 64.0);
   // A server held up by the sleeper would stop stepping (a ratio near 0);
   // other work on a shared machine costs tens of percent, so the floor is low.

@@ -27,7 +27,6 @@ class CliTest : public FloatingSceneTest {
     ADD_FAILURE() << "the server never reached tick " << tick;
     return {};
   }
-
 };
 
 TEST_F(CliTest, BodiesListsTheScene) {

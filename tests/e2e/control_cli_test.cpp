@@ -25,12 +25,11 @@ class ControlCliTest : public FloatingSceneTest {
 
   // Pauses the server and returns the tick it stays at.
   std::uint64_t pause() { return run_json({"pause"})["applied_tick"].get<std::uint64_t>(); }
-
 };
 
 TEST_F(ControlCliTest, SpawnedBodiesAppearInBodies) {
-  const json ack = run_json({"spawn", "rock", "--sphere", "0.25", "--mass", "3", "--at", "1", "2", "3",
-                             "--velocity", "0", "0", "0"});
+  const json ack = run_json(
+      {"spawn", "rock", "--sphere", "0.25", "--mass", "3", "--at", "1", "2", "3", "--velocity", "0", "0", "0"});
   EXPECT_EQ(ack["body_id"], 2);
   EXPECT_TRUE(ack.contains("applied_tick"));
   const json box = run_json({"spawn", "plank", "--box", "1", "0.1", "0.5", "--static", "--at", "0", "-5", "0"});

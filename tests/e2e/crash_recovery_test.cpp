@@ -11,10 +11,10 @@
 
 #include <array>
 #include <atomic>
-#include <memory>
 #include <cmath>
 #include <functional>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -176,8 +176,8 @@ void expect_frame_shows(const json& body, const tumble::v1::SavedBody& saved, st
 TEST(CrashRecovery, AKilledServerComesBackAtMostOneCheckpointOlderAndSubscribersRideThrough) {
   const std::string dir = make_temp_dir();
   const std::string state_path = dir + "/world.state";
-  const std::vector<std::string> flags = {"--tick-rate", kTickRate, "--state", state_path, "--checkpoint-interval",
-                                          kCheckpointSeconds};
+  const std::vector<std::string> flags = {"--tick-rate",           kTickRate,         "--state", state_path,
+                                          "--checkpoint-interval", kCheckpointSeconds};
   auto first = std::make_unique<TumbledProcess>(scene(), flags);
   ASSERT_TRUE(first->started()) << first->log();
   const std::uint16_t port = first->port();
@@ -199,13 +199,15 @@ TEST(CrashRecovery, AKilledServerComesBackAtMostOneCheckpointOlderAndSubscribers
     if (frames.empty()) return false;
     first_tick = tick_of(frames.front());
     return tick_of(frames.back()) >= first_tick + 2 * kIntervalTicks && checkpoint_tick(state_path) > 0;
-  })) << "no frames or no checkpoint\n" << first->log() << read_file(err_path);
+  })) << "no frames or no checkpoint\n"
+      << first->log() << read_file(err_path);
   const std::uint64_t earlier_checkpoint = checkpoint_tick(state_path);
   std::uint64_t fresh_checkpoint = 0;
   ASSERT_TRUE(wait_until([&] {
     fresh_checkpoint = checkpoint_tick(state_path);
     return fresh_checkpoint > earlier_checkpoint;
-  })) << "no checkpoint after tick " << earlier_checkpoint;
+  })) << "no checkpoint after tick "
+      << earlier_checkpoint;
   ASSERT_TRUE(wait_until([&] {
     const auto frames = printed_frames(out_path);
     return !frames.empty() && tick_of(frames.back()) >= fresh_checkpoint + kIntervalTicks / 2;
@@ -231,8 +233,7 @@ TEST(CrashRecovery, AKilledServerComesBackAtMostOneCheckpointOlderAndSubscribers
   first.reset();
   TumbledProcess second(R"({"bodies": []})", flags, port);
   ASSERT_TRUE(second.started()) << second.log();
-  EXPECT_NE(second.log().find("from " + state_path + ", at tick " + std::to_string(restored_tick)),
-            std::string::npos)
+  EXPECT_NE(second.log().find("from " + state_path + ", at tick " + std::to_string(restored_tick)), std::string::npos)
       << second.log();
 
   // The subscriber comes back and prints half an interval of new frames.
@@ -244,7 +245,8 @@ TEST(CrashRecovery, AKilledServerComesBackAtMostOneCheckpointOlderAndSubscribers
       if (tick_of(frames[restart_at]) < tick_of(frames[restart_at - 1])) break;
     }
     return restart_at < frames.size() && tick_of(frames.back()) >= tick_of(frames[restart_at]) + kIntervalTicks / 2;
-  })) << "the subscriber did not come back with frames\n" << read_file(err_path) << second.log();
+  })) << "the subscriber did not come back with frames\n"
+      << read_file(err_path) << second.log();
   EXPECT_TRUE(subscriber.running()) << "the subscriber exited\n" << read_file(err_path);
   subscriber.signal(SIGINT);
   EXPECT_EQ(subscriber.wait(30s), 0) << "Ctrl-C ends a reconnecting subscriber with success";

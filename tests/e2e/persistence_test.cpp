@@ -56,7 +56,8 @@ TEST(Persistence, SigtermSavesTheWorldAndAStartResumesItExactly) {
     ASSERT_TRUE(saving.started()) << saving.log();
     run_ok(saving, {"impulse", "crate", "--impulse", "2", "0", "0"});
     run_ok(saving, {"force", "ball", "--force", "1", "0", "0", "--persistent"});
-    run_ok(saving, {"spawn", "extra", "--sphere", "0.2", "--mass", "3", "--at", "0", "10", "0", "--velocity", "0", "1", "0"});
+    run_ok(saving,
+           {"spawn", "extra", "--sphere", "0.2", "--mass", "3", "--at", "0", "10", "0", "--velocity", "0", "1", "0"});
     run_ok(saving, {"remove", "extra"});  // its id must stay unused after the restart
     run_ok(saving, {"pause"});
     before = run_json(saving, {"bodies"});
@@ -94,7 +95,8 @@ TEST(Persistence, CheckpointsBoundWhatAKillLoses) {
   const std::uint64_t pushed = run_json(server, {"impulse", "crate", "--impulse", "2", "0", "0"})["applied_tick"];
   // A checkpoint written 0.75 s (180 ticks) after the impulse or later, then the kill.
   ASSERT_TRUE(poll_until([&] { return checkpoint_tick(state) >= pushed + 180; }))
-      << "no checkpoint 180 ticks after the impulse\n" << server.log();
+      << "no checkpoint 180 ticks after the impulse\n"
+      << server.log();
   const std::uint64_t seen = run_json(server, {"stats"})["tick"].get<std::uint64_t>();
   server.process().signal(SIGKILL);
   ASSERT_EQ(server.process().wait(std::chrono::seconds(10)), 128 + SIGKILL);
@@ -154,8 +156,9 @@ TEST(Persistence, AReplayOfARecordedRunEndsInTheSameWorldBitForBit) {
   replayed.set_paused(recorded.paused());
   EXPECT_EQ(replayed.tick(), recorded.tick());
   ASSERT_EQ(replayed.bodies_size(), recorded.bodies_size());
-  EXPECT_EQ(replayed.SerializeAsString(), recorded.SerializeAsString())
-      << "recorded:\n" << recorded.DebugString() << "\nreplayed:\n" << replayed.DebugString();
+  EXPECT_EQ(replayed.SerializeAsString(), recorded.SerializeAsString()) << "recorded:\n"
+                                                                        << recorded.DebugString() << "\nreplayed:\n"
+                                                                        << replayed.DebugString();
 }
 
 TEST(Persistence, BadFilesAndFlagsAreClearErrors) {

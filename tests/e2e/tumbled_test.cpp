@@ -22,7 +22,8 @@
 namespace tumble::test {
 namespace {
 
-const char* kScene = R"({"bodies": [{"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
+const char* kScene =
+    R"({"bodies": [{"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
 
 TEST(Tumbled, StopsCleanlyOnSigterm) {
   TumbledProcess server(kScene);
@@ -226,11 +227,11 @@ TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
 TEST(Tumbled, TheSimAndNetworkThreadsAskForAShortSlice) {
   if (!kernel_takes_slices()) GTEST_SKIP() << "this kernel does not let a thread choose its time slice";
   const std::string dir = make_temp_dir();
-  TumbledProcess server(kScene, {"--physics-threads", "2", "--state", dir + "/world.state", "--checkpoint-interval",
-                                 "60"});
+  TumbledProcess server(kScene,
+                        {"--physics-threads", "2", "--state", dir + "/world.state", "--checkpoint-interval", "60"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_running(server.process().pid(),
-                                           {{"tumbled-sim", 1}, {"tumble-physics", 1}, {"tumbled-saver", 1}});
+  const auto threads =
+      threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 1}, {"tumbled-saver", 1}});
   ASSERT_TRUE(threads.contains("main")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
@@ -247,11 +248,11 @@ TEST(Tumbled, TheSimAndNetworkThreadsAskForAShortSlice) {
 TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   if (!may_use_fifo(3)) GTEST_SKIP() << "this process may not use SCHED_FIFO (no CAP_SYS_NICE, ulimit -r 0)";
   const std::string dir = make_temp_dir();
-  TumbledProcess server(kScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state",
-                                 dir + "/world.state", "--checkpoint-interval", "60", "--keep-cpus-awake"});
+  TumbledProcess server(kScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state", dir + "/world.state",
+                                 "--checkpoint-interval", "60", "--keep-cpus-awake"});
   ASSERT_TRUE(server.started()) << server.log();
-  const auto threads = threads_once_running(server.process().pid(),
-                                           {{"tumbled-sim", 1}, {"tumble-physics", 2}, {"tumbled-saver", 1}});
+  const auto threads =
+      threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 2}, {"tumbled-saver", 1}});
   ASSERT_TRUE(threads.contains("main")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
   ASSERT_TRUE(threads.contains("tumbled-saver")) << server.log();
@@ -349,8 +350,8 @@ TEST(Tumbled, RealtimePriorityRefusedIsAClearErrorBeforeListening) {
   std::vector<std::string> argv = {"/usr/bin/prlimit", "--rtprio=0"};
   if (geteuid() == 0) argv.insert(argv.end(), {"/usr/bin/setpriv", "--bounding-set", "-sys_nice"});
   const std::string dir = make_temp_dir();
-  argv.insert(argv.end(), {tumbled_path(), "--listen", "127.0.0.1:0", "--port-file", dir + "/port",
-                           "--realtime-priority", "5"});
+  argv.insert(argv.end(),
+              {tumbled_path(), "--listen", "127.0.0.1:0", "--port-file", dir + "/port", "--realtime-priority", "5"});
   const CommandResult result = run_command(argv);
   EXPECT_EQ(result.exit_code, 1) << result.err;
   EXPECT_NE(result.err.find("--realtime-priority 5: the kernel refused SCHED_FIFO"), std::string::npos) << result.err;
@@ -366,10 +367,10 @@ TEST(Tumbled, RealtimePriorityIsGrantedByRlimitRtprioWithoutPrivilege) {
     GTEST_SKIP() << "this process may not raise RLIMIT_RTPRIO (no CAP_SYS_RESOURCE)";
   }
   const std::string dir = make_temp_dir();
-  ChildProcess server({"/usr/bin/prlimit", "--rtprio=5", "/usr/bin/setpriv", "--bounding-set", "-sys_nice",
-                       tumbled_path(), "--listen", "127.0.0.1:0", "--port-file", dir + "/port", "--realtime-priority",
-                       "5"},
-                      dir + "/log");
+  ChildProcess server(
+      {"/usr/bin/prlimit", "--rtprio=5", "/usr/bin/setpriv", "--bounding-set", "-sys_nice", tumbled_path(), "--listen",
+       "127.0.0.1:0", "--port-file", dir + "/port", "--realtime-priority", "5"},
+      dir + "/log");
   for (int i = 0; i < 200 && !std::filesystem::exists(dir + "/port"); ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
@@ -391,7 +392,8 @@ TEST(Tumbled, RealtimePriorityInAControlGroupWithoutRealTimeTimeNamesTheGroup) {
   }
   const std::string group = cpu + "/tumble-test-" + std::to_string(getpid());
   std::error_code error;
-  if (!std::filesystem::create_directory(group, error)) GTEST_SKIP() << "cannot create " << group << ": " << error.message();
+  if (!std::filesystem::create_directory(group, error))
+    GTEST_SKIP() << "cannot create " << group << ": " << error.message();
   ASSERT_EQ(read_file(group + "/cpu.rt_runtime_us"), "0\n");
   const std::string dir = make_temp_dir();
   // The shell moves itself into the group, then becomes tumbled.

@@ -27,9 +27,9 @@ TEST(Access, TokensGrantTheirRoles) {
 TEST(Access, WrongOrMissingTokensAreRefused) {
   const AccessTokens tokens{"control-me", "just-looking"};
   EXPECT_EQ(authenticate(tokens, ""), std::nullopt);
-  EXPECT_EQ(authenticate(tokens, "control-m"), std::nullopt);     // a prefix
-  EXPECT_EQ(authenticate(tokens, "control-me!"), std::nullopt);   // longer
-  EXPECT_EQ(authenticate(tokens, "Control-me"), std::nullopt);    // one byte off
+  EXPECT_EQ(authenticate(tokens, "control-m"), std::nullopt);             // a prefix
+  EXPECT_EQ(authenticate(tokens, "control-me!"), std::nullopt);           // longer
+  EXPECT_EQ(authenticate(tokens, "Control-me"), std::nullopt);            // one byte off
   EXPECT_EQ(authenticate(tokens, "control-mecontrol-me"), std::nullopt);  // the token twice
   EXPECT_EQ(authenticate(tokens, std::string("control-me\0", 11)), std::nullopt);
 }

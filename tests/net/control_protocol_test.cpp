@@ -206,9 +206,8 @@ TEST_F(ControlProtocolTest, PoseOnlyFramesCarryNoVelocities) {
   EXPECT_EQ(frame->pose_frame().angular_velocities_size(), 0);
 
   ASSERT_TRUE(call(subscribe(2, 60, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY)).has_subscribed());
-  const auto full = client_.read_until([](const ServerMessage& m) {
-    return m.has_pose_frame() && m.pose_frame().linear_velocities_size() > 0;
-  });
+  const auto full = client_.read_until(
+      [](const ServerMessage& m) { return m.has_pose_frame() && m.pose_frame().linear_velocities_size() > 0; });
   ASSERT_TRUE(full) << "the default, pose and velocity, has velocities";
   EXPECT_EQ(full->pose_frame().angular_velocities_size(), 6);
 }
@@ -229,7 +228,8 @@ TEST_F(ControlProtocolTest, ASubscriptionWhilePausedGetsTheCurrentStateAndThenNo
     ASSERT_TRUE(client_.read_until([&](const ServerMessage& m) {
       if (m.has_pose_frame()) frame_ticks.push_back(m.pose_frame().tick());
       return is_reply_to(m, id);
-    })) << "no reply to request " << id;
+    })) << "no reply to request "
+        << id;
     EXPECT_TRUE(frame_ticks.empty()) << "a frame of tick " << frame_ticks.front() << " while paused at " << at;
   }
 }
@@ -291,11 +291,10 @@ TEST_F(ControlProtocolTest, SubscribersHearOfSpawnsAndRemovalsBeforeTheFrame) {
 }
 
 TEST_F(ControlProtocolTest, ANamedSubscriptionHearsOnlyOfItsBodiesAndOfResets) {
-  const ServerMessage subscribed =
-      call(subscribe(1, 30, tumble::v1::POSE_FIELDS_POSE,
-                     {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED,
-                      tumble::v1::WORLD_EVENT_WORLD_RESET},
-                     {"ball"}));
+  const ServerMessage subscribed = call(subscribe(
+      1, 30, tumble::v1::POSE_FIELDS_POSE,
+      {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED, tumble::v1::WORLD_EVENT_WORLD_RESET},
+      {"ball"}));
   ASSERT_TRUE(subscribed.has_subscribed());
   ASSERT_TRUE(call(spawn(2, "rock", 0.5)).has_ack());
   ClientMessage remove;
@@ -313,7 +312,8 @@ TEST_F(ControlProtocolTest, ANamedSubscriptionHearsOnlyOfItsBodiesAndOfResets) {
     ASSERT_TRUE(client_.read_until([&](const ServerMessage& m) {
       if (m.has_world_event()) events_.push_back(m.world_event());
       return is_reply_to(m, id);
-    })) << "no reply to request " << id;
+    })) << "no reply to request "
+        << id;
   }
   std::vector<tumble::v1::WorldEventKind> kinds;
   for (const auto& event : events_) kinds.push_back(event.kind());

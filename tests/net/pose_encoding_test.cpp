@@ -101,8 +101,8 @@ TEST(PoseEncoding, QuantizedFramesMatchFullFramesWithVelocities) {
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
   // Every tick, both encodings: frames of the same tick can be compared.
-  const auto full = subscribed(
-      client, subscribe(1, tumble::v1::POSE_ENCODING_FULL, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
+  const auto full =
+      subscribed(client, subscribe(1, tumble::v1::POSE_ENCODING_FULL, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
   const auto quantized = subscribed(
       client, subscribe(2, tumble::v1::POSE_ENCODING_QUANTIZED, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
   ASSERT_NE(full.subscription_id(), quantized.subscription_id());
@@ -187,8 +187,8 @@ TEST(PoseEncoding, DeltaOfAnIdleWorldSendsNoBodyDataAfterTheKeyFrame) {
   ASSERT_TRUE(client.send(request));
   const auto ack = client.read_until([](const ServerMessage& m) { return m.has_ack() || m.has_error(); });
   ASSERT_TRUE(ack && ack->has_ack()) << (ack ? ack->DebugString() : "none");
-  const auto again = client.read_until(
-      [](const ServerMessage& m) { return m.has_pose_frame() && m.pose_frame().key_frame(); });
+  const auto again =
+      client.read_until([](const ServerMessage& m) { return m.has_pose_frame() && m.pose_frame().key_frame(); });
   ASSERT_TRUE(again);
   EXPECT_EQ(wire::decode_quantized_poses(again->pose_frame().packed())->bodies.size(), 901u);
   const auto after = next_frame(client);

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "poll_until.h"
-#include "raw_client.h"
 #include "protocol_checks.h"
+#include "raw_client.h"
 #include "replies.h"
 #include "requests.h"
 #include "test_scenes.h"

@@ -112,8 +112,7 @@ TEST(SessionLimits, RequestsOverTheRateAreRefusedAndTheClientRecovers) {
     } else {
       EXPECT_EQ(reply.error().code(), tumble::v1::RATE_LIMITED);
       EXPECT_EQ(reply.error().request_id(), id);
-      EXPECT_NE(reply.error().message().find("5 requests per second"), std::string::npos)
-          << reply.error().message();
+      EXPECT_NE(reply.error().message().find("5 requests per second"), std::string::npos) << reply.error().message();
       ++limited;
     }
   }

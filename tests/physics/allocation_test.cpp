@@ -105,8 +105,8 @@ TEST(AllocationTest, CounterSeesAllocations) {
   {
     AllocationCounter counter;
     numbers.resize(100);
-    void* raw = ::operator new(256, std::align_val_t{64});
-    ::operator delete(raw, std::align_val_t{64});
+    void* raw = ::operator new (256, std::align_val_t{64});
+    ::operator delete (raw, std::align_val_t{64});
     seen = counter.count();
   }
   numbers = std::vector<int>();
@@ -140,8 +140,8 @@ struct PileScene {
       capsule.orientation = Quat(Eigen::AngleAxisd(1.5707963267948966, Vec3::UnitZ()));  // lying along x
       world.add_body(capsule);
     }
-    const std::vector<Vec3> octahedron = {Vec3(0.4, 0, 0), Vec3(-0.4, 0, 0), Vec3(0, 0.4, 0),
-                                          Vec3(0, -0.4, 0), Vec3(0, 0, 0.4), Vec3(0, 0, -0.4)};
+    const std::vector<Vec3> octahedron = {Vec3(0.4, 0, 0),  Vec3(-0.4, 0, 0), Vec3(0, 0.4, 0),
+                                          Vec3(0, -0.4, 0), Vec3(0, 0, 0.4),  Vec3(0, 0, -0.4)};
     BodyDesc hull;
     hull.shape = convex_hull_shape(build_convex_hull(octahedron));
     hull.mass_properties = convex_hull_mass_properties(*hull.shape.hull, 1.0);

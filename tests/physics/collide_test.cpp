@@ -39,8 +39,8 @@ constexpr double kTol = 1e-12;
 constexpr double kPi = std::numbers::pi;
 
 void expect_vec_near(const Vec3& actual, const Vec3& expected, double tol, const std::string& what = "") {
-  EXPECT_LT((actual - expected).norm(), tol) << what << ": got " << actual.transpose() << ", want "
-                                             << expected.transpose();
+  EXPECT_LT((actual - expected).norm(), tol)
+      << what << ": got " << actual.transpose() << ", want " << expected.transpose();
 }
 
 // Every point's separation is (point_b - point_a).normal, as manifold.h
@@ -74,7 +74,7 @@ TEST(CollideSphereTest, SphereSphereAlongCentreLine) {
 // and moved off the origin; the sphere centre is given in the box frame.
 struct SphereBoxCase {
   const char* region;
-  Vec3 centre_local;   // sphere centre, box frame
+  Vec3 centre_local;  // sphere centre, box frame
   double radius;
   Vec3 closest_local;  // closest point of the box surface, box frame
   Vec3 outward_local;  // unit normal from the box towards the sphere, box frame
@@ -122,8 +122,8 @@ INSTANTIATE_TEST_SUITE_P(
         // Beyond the (+x, +y) edge: c - q = (0.3, 0.4, 0), |c - q| = 0.5.
         SphereBoxCase{"edge", Vec3(1.3, 0.9, 0.2), 0.6, Vec3(1.0, 0.5, 0.2), Vec3(0.6, 0.8, 0), 0.5 - 0.6},
         // Beyond the (-x, +y, -z) corner: c - q = (-0.2, 0.2, -0.1), |c - q| = 0.3.
-        SphereBoxCase{"corner", Vec3(-1.2, 0.7, -0.85), 0.35, Vec3(-1.0, 0.5, -0.75),
-                      Vec3(-2.0, 2.0, -1.0) / 3.0, 0.3 - 0.35},
+        SphereBoxCase{"corner", Vec3(-1.2, 0.7, -0.85), 0.35, Vec3(-1.0, 0.5, -0.75), Vec3(-2.0, 2.0, -1.0) / 3.0,
+                      0.3 - 0.35},
         // Centre inside, 0.1 below the +y face (the nearest): -0.1 - 0.2.
         SphereBoxCase{"inside", Vec3(0.1, 0.4, 0.0), 0.2, Vec3(0.1, 0.5, 0.0), Vec3(0, 1, 0), -0.1 - 0.2}),
     [](const ::testing::TestParamInfo<SphereBoxCase>& case_info) { return std::string(case_info.param.region); });
@@ -171,8 +171,8 @@ TEST(CollideCapsuleTest, ParallelCapsulesGiveTwoPointsOverTheOverlap) {
   // x in [-0.5, 1]; the surfaces overlap by 0.3 + 0.3 - 0.5 = 0.1 there.
   const Shape capsule = capsule_shape(0.3, 1.0);
   Manifold m;
-  collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule, capsule_along(Vec3(0.5, 0.5, 0.0), Vec3::UnitX()),
-          kMargin, m);
+  collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
+          capsule_along(Vec3(0.5, 0.5, 0.0), Vec3::UnitX()), kMargin, m);
   ASSERT_EQ(m.point_count, 2);
   expect_vec_near(m.normal, Vec3::UnitY(), 1e-12, "normal");
   std::vector<double> xs;
@@ -200,8 +200,8 @@ TEST(CollideCapsuleTest, CrossedCapsulesGiveOnePoint) {
   // points are (0.2, 0, 0) and (0.2, 0.5, 0).
   const Shape capsule = capsule_shape(0.3, 1.0);
   Manifold m;
-  collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule, capsule_along(Vec3(0.2, 0.5, 0.1), Vec3::UnitZ()),
-          kMargin, m);
+  collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
+          capsule_along(Vec3(0.2, 0.5, 0.1), Vec3::UnitZ()), kMargin, m);
   ASSERT_EQ(m.point_count, 1);
   expect_vec_near(m.normal, Vec3::UnitY(), 1e-12, "normal");
   EXPECT_NEAR(m.points[0].separation, 0.5 - 0.6, 1e-12);
@@ -215,8 +215,8 @@ TEST(CollideCapsuleTest, IntersectingCoresPushAlongTheCommonPerpendicular) {
   // both axes.
   const Shape capsule = capsule_shape(0.3, 1.0);
   Manifold m;
-  collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule, capsule_along(Vec3(0.2, 0.0, 0.5), Vec3::UnitZ()),
-          kMargin, m);
+  collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
+          capsule_along(Vec3(0.2, 0.0, 0.5), Vec3::UnitZ()), kMargin, m);
   ASSERT_EQ(m.point_count, 1);
   EXPECT_NEAR(std::abs(m.normal.y()), 1.0, 1e-12);
   EXPECT_NEAR(m.points[0].separation, -0.6, 1e-12);
@@ -518,8 +518,10 @@ TEST(CollideBoxTest, RandomOverlapsSatisfyManifoldInvariants) {
       ids.insert(p.id);
       EXPECT_NEAR((p.point_b - p.point_a).dot(m.normal), p.separation, 1e-12);
       EXPECT_LE(p.separation, kMargin + 1e-12);
-      EXPECT_NEAR(box_surface_height(ta.apply_inverse(p.point_a), ha), 0.0, 1e-9) << "trial " << trial << " point " << k;
-      EXPECT_NEAR(box_surface_height(tb.apply_inverse(p.point_b), hb), 0.0, 1e-9) << "trial " << trial << " point " << k;
+      EXPECT_NEAR(box_surface_height(ta.apply_inverse(p.point_a), ha), 0.0, 1e-9)
+          << "trial " << trial << " point " << k;
+      EXPECT_NEAR(box_surface_height(tb.apply_inverse(p.point_b), hb), 0.0, 1e-9)
+          << "trial " << trial << " point " << k;
     }
     EXPECT_EQ(ids.size(), static_cast<std::size_t>(m.point_count)) << "trial " << trial;
   }
@@ -595,7 +597,8 @@ std::vector<GapCase> gap_cases() {
       {"BoxHull",
        [=](double g, Shape* a, Transform* ta, Shape* b, Transform* tb) {
          *a = box_shape(Vec3(1.0, 0.5, 1.0)), *ta = placed(Vec3::Zero());
-         *b = convex_hull_shape(unit_cube_hull()), *tb = placed(Vec3(0.2, 1.0 + g, 0.1), rotation_about(Vec3::UnitY(), 0.3));
+         *b = convex_hull_shape(unit_cube_hull()),
+         *tb = placed(Vec3(0.2, 1.0 + g, 0.1), rotation_about(Vec3::UnitY(), 0.3));
        }},
       {"HullHull",
        [=](double g, Shape* a, Transform* ta, Shape* b, Transform* tb) {
@@ -614,7 +617,8 @@ std::vector<GapCase> gap_cases() {
        }},
       {"BoxPlane",
        [=](double g, Shape* a, Transform* ta, Shape* b, Transform* tb) {
-         *a = box_shape(Vec3(0.5, 0.25, 0.5)), *ta = placed(Vec3(0.0, 0.25 + g, 0.0), rotation_about(Vec3::UnitY(), 1.0));
+         *a = box_shape(Vec3(0.5, 0.25, 0.5)),
+         *ta = placed(Vec3(0.0, 0.25 + g, 0.0), rotation_about(Vec3::UnitY(), 1.0));
          *b = plane_shape(Vec3::UnitY(), 0.0), *tb = placed(Vec3::Zero());
        }},
       {"HullPlane",
@@ -657,7 +661,9 @@ TEST_P(GapTest, PointsOnlyWithinTheSpeculativeMargin) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllPairKinds, GapTest, ::testing::ValuesIn(gap_cases()),
-                         [](const ::testing::TestParamInfo<GapCase>& case_info) { return std::string(case_info.param.name); });
+                         [](const ::testing::TestParamInfo<GapCase>& case_info) {
+                           return std::string(case_info.param.name);
+                         });
 
 // ---------------------------------------------------------------- feature ids
 
@@ -677,8 +683,8 @@ void expect_ids_persist(const Vec3& ha, const Vec3& hb, const Vec3& offset_on_a)
   for (int frame = 0; frame < 200; ++frame) {
     const Vec3 shift = 1e-3 * Vec3(jitter(rng), 0.5 * jitter(rng), jitter(rng));
     const Quat wobble = rotation_about(random_vector(rng, -1.0, 1.0), 5e-4 * jitter(rng));
-    const Transform tb =
-        pose(Vec3(offset_on_a.x(), ha.y() + hb.y() - depth, offset_on_a.z()) + shift, wobble * rotation_about(Vec3::UnitY(), 0.1));
+    const Transform tb = pose(Vec3(offset_on_a.x(), ha.y() + hb.y() - depth, offset_on_a.z()) + shift,
+                              wobble * rotation_about(Vec3::UnitY(), 0.1));
     Manifold m;
     collide(box_shape(ha), ta, box_shape(hb), tb, kMargin, m);
     ASSERT_EQ(m.point_count, 4) << "frame " << frame;

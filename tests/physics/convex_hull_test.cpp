@@ -35,7 +35,8 @@ using testing::regular_tetrahedron;
 // the hull (within tolerance, relative to the extent).
 void expect_valid_hull(const ConvexHull& hull, const std::vector<Vec3>& points) {
   const std::size_t v = hull.vertices.size(), e = hull.edges.size(), f = hull.faces.size();
-  EXPECT_EQ(static_cast<long>(v) - static_cast<long>(e) + static_cast<long>(f), 2) << "V " << v << " E " << e << " F " << f;
+  EXPECT_EQ(static_cast<long>(v) - static_cast<long>(e) + static_cast<long>(f), 2)
+      << "V " << v << " E " << e << " F " << f;
 
   double extent = 0;
   for (const Vec3& p : points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
@@ -250,7 +251,8 @@ TEST(ConvexHullMassTest, BoxHullMatchesBoxClosedForm) {
   const auto turned_hull = build_convex_hull(turned);
   ASSERT_NE(turned_hull, nullptr);
   const Mat3 r = turn.toRotationMatrix();
-  expect_matrix_near(convex_hull_mass_properties(*turned_hull, 6.0).inertia, r * expected.inertia * r.transpose(), 1e-12);
+  expect_matrix_near(convex_hull_mass_properties(*turned_hull, 6.0).inertia, r * expected.inertia * r.transpose(),
+                     1e-12);
 }
 
 TEST(ConvexHullMassTest, RightTetrahedronMatchesClosedForm) {
@@ -269,7 +271,7 @@ TEST(ConvexHullMassTest, RightTetrahedronMatchesClosedForm) {
   EXPECT_LT((props.center - Vec3(a, b, c) / 4.0).norm(), 1e-12);
   Mat3 expected;
   expected << 3 * m / 80 * (b * b + c * c), m * a * b / 80, m * a * c / 80,  //
-      m * a * b / 80, 3 * m / 80 * (a * a + c * c), m * b * c / 80,           //
+      m * a * b / 80, 3 * m / 80 * (a * a + c * c), m * b * c / 80,          //
       m * a * c / 80, m * b * c / 80, 3 * m / 80 * (a * a + b * b);
   expect_matrix_near(props.inertia, expected, 1e-12);
 }

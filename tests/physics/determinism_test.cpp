@@ -16,8 +16,8 @@ namespace {
 using testing::box_body;
 using testing::ground_plane;
 using testing::kTick;
-using testing::state_hash;
 using testing::sphere_body;
+using testing::state_hash;
 
 // 100 bodies (boxes, and spheres every seventh) dropped in a loose block
 // with varied orientations, then 10 s of simulation, with a push and a
@@ -37,7 +37,8 @@ std::vector<std::uint64_t> run_pile(int threads = 1, std::size_t* most_islands =
   }
   std::vector<std::uint64_t> hashes;
   for (int i = 0; i < 10 * 240; ++i) {
-    if (i == 600) world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
+    if (i == 600)
+      world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
     if (i == 900) world.remove_body(ids[17]);
     world.step(kTick);
     if (most_islands != nullptr) *most_islands = std::max(*most_islands, world.last_step_stats().islands);
@@ -113,7 +114,8 @@ TEST(DeterminismTest, ChangingTheThreadCountMidRunChangesNothing) {
   World reference, changing;
   for (World* world : {&reference, &changing}) {
     world->add_body(ground_plane());
-    for (int i = 0; i < 40; ++i) world->add_body(box_body(Vec3(1.5 * (i % 8), 0.6 + 0.2 * (i % 3), 1.5 * (i / 8)), 0.5));
+    for (int i = 0; i < 40; ++i)
+      world->add_body(box_body(Vec3(1.5 * (i % 8), 0.6 + 0.2 * (i % 3), 1.5 * (i / 8)), 0.5));
   }
   for (int i = 0; i < 480; ++i) {
     if (i % 60 == 0) changing.set_thread_count(1 + (i / 60) % 3);

@@ -36,7 +36,7 @@ TEST(DynamicTreeTest, AvlBoundIsFibonacci) {
   EXPECT_EQ(avl_height_bound(2), 1);
   EXPECT_EQ(avl_height_bound(3), 2);
   EXPECT_EQ(avl_height_bound(4), 2);
-  EXPECT_EQ(avl_height_bound(5), 3);   // F(5) = 5
+  EXPECT_EQ(avl_height_bound(5), 3);     // F(5) = 5
   EXPECT_EQ(avl_height_bound(500), 12);  // F(14) = 377 <= 500 < F(15) = 610
 }
 

@@ -113,8 +113,7 @@ TEST_P(SlidingTest, BoxOnFixedSupportsDeceleratesAtMuG) {
   } else {
     BodyDesc slab = box_body(Vec3(0.0, -0.5, 0.0));
     slab.shape = box_shape(Vec3(5.0, 0.5, 5.0));
-    slab.motion_type =
-        GetParam() == Support::static_box ? MotionType::static_body : MotionType::kinematic_body;
+    slab.motion_type = GetParam() == Support::static_box ? MotionType::static_body : MotionType::kinematic_body;
     slab.friction = mu;
     world.add_body(slab);
   }
@@ -140,13 +139,15 @@ TEST_P(SlidingTest, BoxOnFixedSupportsDeceleratesAtMuG) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Supports, SlidingTest,
-                         ::testing::Values(Support::static_spheres, Support::static_box,
-                                           Support::still_kinematic_box),
+                         ::testing::Values(Support::static_spheres, Support::static_box, Support::still_kinematic_box),
                          [](const ::testing::TestParamInfo<Support>& param_info) {
                            switch (param_info.param) {
-                             case Support::static_spheres: return "StaticSpheres";
-                             case Support::static_box: return "StaticBox";
-                             case Support::still_kinematic_box: return "StillKinematicBox";
+                             case Support::static_spheres:
+                               return "StaticSpheres";
+                             case Support::static_box:
+                               return "StaticBox";
+                             case Support::still_kinematic_box:
+                               return "StillKinematicBox";
                            }
                            return "";
                          });

@@ -83,8 +83,8 @@ inline Quat random_rotation(std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double u1 = unit(rng), u2 = unit(rng), u3 = unit(rng);
   const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
-  return Quat(a * std::sin(2 * std::numbers::pi * u2), a * std::cos(2 * std::numbers::pi * u2), b * std::sin(2 * std::numbers::pi * u3),
-              b * std::cos(2 * std::numbers::pi * u3))
+  return Quat(a * std::sin(2 * std::numbers::pi * u2), a * std::cos(2 * std::numbers::pi * u2),
+              b * std::sin(2 * std::numbers::pi * u3), b * std::cos(2 * std::numbers::pi * u3))
       .normalized();
 }
 

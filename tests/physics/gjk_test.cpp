@@ -252,8 +252,8 @@ TEST(HullCollideTest, SixtyFourSidedFaceOnBoxKeepsItsDeepest) {
 void expect_same_manifold(const Manifold& got, const Manifold& want, bool compare_points, const std::string& what) {
   ASSERT_EQ(got.point_count, want.point_count) << what;
   if (want.point_count == 0) return;
-  EXPECT_LT((got.normal - want.normal).norm(), 1e-9) << what << ": normal " << got.normal.transpose() << " vs "
-                                                      << want.normal.transpose();
+  EXPECT_LT((got.normal - want.normal).norm(), 1e-9)
+      << what << ": normal " << got.normal.transpose() << " vs " << want.normal.transpose();
   std::vector<double> sa, sb;
   for (int k = 0; k < got.point_count; ++k) sa.push_back(got.points[k].separation);
   for (int k = 0; k < want.point_count; ++k) sb.push_back(want.points[k].separation);
@@ -289,7 +289,8 @@ TEST(HullCollideTest, BoxHullCollidesLikeBoxShape) {
   const double r = std::sqrt(0.5);
   std::vector<PosePair> poses = {
       {"stacked", pose(Vec3::Zero()), pose(Vec3(0.1, 0.9 - 0.004, 0.05), rotation_about(Vec3::UnitY(), 0.2)), false},
-      {"turned 45", pose(Vec3::Zero()), pose(Vec3(0.0, 0.9 - 0.004, 0.0), rotation_about(Vec3::UnitY(), kPi / 4)), true},
+      {"turned 45", pose(Vec3::Zero()), pose(Vec3(0.0, 0.9 - 0.004, 0.0), rotation_about(Vec3::UnitY(), kPi / 4)),
+       true},
       // A turned 45 degrees about z has its top edge (x = 0.4 r, along z) at
       // (0.8 + 0.4) r; B turned about x has its bottom edge (along x) r below
       // its centre.
@@ -298,7 +299,8 @@ TEST(HullCollideTest, BoxHullCollidesLikeBoxShape) {
       // B's corner (-1, -1, -1)/2 turned straight down, sqrt(3)/2 below its
       // centre, 0.01 into A's top face.
       {"corner into face", pose(Vec3::Zero()),
-       pose(Vec3(0.1, 0.4 + std::sqrt(0.75) - 0.01, 0.0), Quat::FromTwoVectors(Vec3(-1, -1, -1).normalized(), -Vec3::UnitY())),
+       pose(Vec3(0.1, 0.4 + std::sqrt(0.75) - 0.01, 0.0),
+            Quat::FromTwoVectors(Vec3(-1, -1, -1).normalized(), -Vec3::UnitY())),
        false},
   };
   for (const PosePair& p : poses) {

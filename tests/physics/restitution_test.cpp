@@ -47,9 +47,7 @@ TEST_P(BounceTest, BouncesToRestitutionSquaredTimesHeight) {
 
 INSTANTIATE_TEST_SUITE_P(Restitution, BounceTest, ::testing::Values(0.8, 0.5));
 
-TEST(RestitutionTest, NoRestitutionNoBounce) {
-  EXPECT_LT(first_bounce_height(0.0, 2.0), 0.005);
-}
+TEST(RestitutionTest, NoRestitutionNoBounce) { EXPECT_LT(first_bounce_height(0.0, 2.0), 0.005); }
 
 TEST(RestitutionTest, HeadOnElasticSpheresExchangeVelocities) {
   World world;

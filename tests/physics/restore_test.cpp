@@ -32,8 +32,8 @@ std::vector<SavedBody> save(const World& world, const std::vector<BodyDesc>& des
     BodyDesc desc = descs_by_id[id];
     desc.position = world.position(id);
     desc.orientation = world.orientation(id);
-    saved.push_back({id, desc, world.linear_momentum(id), world.angular_momentum(id), world.is_awake(id),
-                     world.sleep_time(id)});
+    saved.push_back(
+        {id, desc, world.linear_momentum(id), world.angular_momentum(id), world.is_awake(id), world.sleep_time(id)});
   }
   return saved;
 }
@@ -75,7 +75,7 @@ TEST(RestoreTest, IdsMomentaAndSleepComeBackExactly) {
 
   for (int i = 0; i < 2 * 240; ++i) world.step(kTick);
   ASSERT_FALSE(world.is_awake(world.body_id_at(1)));  // the column sleeps
-  ASSERT_TRUE(world.is_awake(thrown));                 // the thrown box still flies
+  ASSERT_TRUE(world.is_awake(thrown));                // the thrown box still flies
 
   const std::vector<SavedBody> saved = save(world, descs);
   World copy = restore(saved, world.next_body_id());

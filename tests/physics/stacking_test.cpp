@@ -64,7 +64,8 @@ TEST(StackingTest, PyramidOfTwoHundredTenStandsTenSeconds) {
   double worst = 0;
   for (int i = 0; i < 10 * 240; ++i) {
     world.step(kTick);
-    for (std::size_t k = 0; k < boxes.size(); ++k) worst = std::max(worst, (world.position(boxes[k]) - start[k]).norm());
+    for (std::size_t k = 0; k < boxes.size(); ++k)
+      worst = std::max(worst, (world.position(boxes[k]) - start[k]).norm());
   }
   EXPECT_LT(worst, 0.05);
   RecordProperty("max_displacement_m", std::to_string(worst));

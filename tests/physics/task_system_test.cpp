@@ -19,8 +19,8 @@ namespace {
 using testing::box_body;
 using testing::ground_plane;
 using testing::kTick;
-using testing::state_hash;
 using testing::sphere_body;
+using testing::state_hash;
 
 // Counts what the World asks of it; the tasks themselves are run by
 // run_all().
@@ -92,7 +92,8 @@ std::vector<std::uint64_t> run_pile(TaskSystem* tasks) {
   }
   std::vector<std::uint64_t> hashes;
   for (int i = 0; i < 5 * 240; ++i) {
-    if (i == 600) world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
+    if (i == 600)
+      world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
     if (i == 900) world.remove_body(ids[17]);
     world.step(kTick);
     if ((i + 1) % 120 == 0) hashes.push_back(state_hash(world));

@@ -128,8 +128,7 @@ TEST(SceneFile, ErrorsNameTheField) {
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1, "colour": "red"}]})"),
             "bodies[0]: unknown field 'colour'");
   EXPECT_EQ(load_error(R"({"bodies": [{"mass": 1}]})"), "bodies[0]: missing field 'shape'");
-  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"cube": {}}, "mass": 1}]})"),
-            "bodies[0].shape: unknown field 'cube'");
+  EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"cube": {}}, "mass": 1}]})"), "bodies[0].shape: unknown field 'cube'");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1,
                                       "orientation": [2, 0, 0, 0]}]})"),
             "bodies[0].orientation: must be a unit quaternion [w, x, y, z]");

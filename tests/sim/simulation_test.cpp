@@ -223,8 +223,9 @@ TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
   // body every third.
   const physics::BodyId gone = ball_ + 100;
   ASSERT_LT(crate_, ball_);
-  sim_->set_publish_interest({PublishInterest{1, false, {ball_, gone}}, PublishInterest{2, false, {crate_}},
-                              PublishInterest{3, true, {}}}, kEarlyBodies);
+  sim_->set_publish_interest(
+      {PublishInterest{1, false, {ball_, gone}}, PublishInterest{2, false, {crate_}}, PublishInterest{3, true, {}}},
+      kEarlyBodies);
   for (int i = 0; i < 6; ++i) sim_->run_tick();  // ticks 1..6
   // Ticks 3 and 6 publish the filtered bodies first, then every body.
   ASSERT_EQ(snapshots.size(), 8u);

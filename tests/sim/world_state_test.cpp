@@ -152,7 +152,8 @@ TEST(WorldState, DamagedFilesAreClearErrors) {
   bool exists = false;
   std::ofstream(dir.file("json")) << R"({"bodies": []})";
   Status status = read_state_file(dir.file("json"), &state, &exists);
-  EXPECT_EQ(status.message(), dir.file("json") + ": not a tumble state file (it does not start with 'tumble-state-v1')");
+  EXPECT_EQ(status.message(),
+            dir.file("json") + ": not a tumble state file (it does not start with 'tumble-state-v1')");
   std::ofstream(dir.file("torn"), std::ios::binary) << "tumble-state-v1\n" << std::string("\x0a\xff\xff", 3);
   status = read_state_file(dir.file("torn"), &state, &exists);
   EXPECT_EQ(status.message(), dir.file("torn") + ": the state file is damaged (not a valid WorldState)");
@@ -276,7 +277,8 @@ TEST(Journal, NotAJournalIsAClearError) {
   TempDir dir;
   std::ofstream(dir.file("x")) << "hello";
   JournalReader reader;
-  EXPECT_EQ(reader.open(dir.file("x")).message(), dir.file("x") + ": not a tumble journal (no 'tumble-journal-v1' at its start)");
+  EXPECT_EQ(reader.open(dir.file("x")).message(),
+            dir.file("x") + ": not a tumble journal (no 'tumble-journal-v1' at its start)");
 }
 
 }  // namespace

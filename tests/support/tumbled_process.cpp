@@ -14,8 +14,8 @@ TumbledProcess::TumbledProcess(const std::string& scene_json, const std::vector<
   const std::string scene_path = dir_ + "/scene.json";
   const std::string port_path = dir_ + "/port";
   std::ofstream(scene_path) << scene_json;
-  std::vector<std::string> argv = {tumbled_path(), "--scene", scene_path, "--listen",
-                                   "127.0.0.1:" + std::to_string(port), "--port-file", port_path};
+  std::vector<std::string> argv = {
+      tumbled_path(), "--scene", scene_path, "--listen", "127.0.0.1:" + std::to_string(port), "--port-file", port_path};
   argv.insert(argv.end(), extra_args.begin(), extra_args.end());
   process_ = std::make_unique<ChildProcess>(argv, log_path_);
   // Generous: a loaded machine or a sanitizer build can take seconds to start.

@@ -13,9 +13,9 @@ namespace {
 TEST(BitStream, FieldsArePackedLeastSignificantBitFirst) {
   std::string out;
   BitWriter writer(out);
-  writer.write(0b101, 3);        // bits 0-2
-  writer.write(0b11110, 5);      // bits 3-7
-  writer.write(0xABC, 12);       // bits 8-19, straddling two bytes
+  writer.write(0b101, 3);    // bits 0-2
+  writer.write(0b11110, 5);  // bits 3-7
+  writer.write(0xABC, 12);   // bits 8-19, straddling two bytes
   ASSERT_EQ(out.size(), 3u);
   EXPECT_EQ(static_cast<unsigned char>(out[0]), 0b11110101);
   EXPECT_EQ(static_cast<unsigned char>(out[1]), 0xBC);

@@ -31,8 +31,8 @@ double distance(const Quat& a, const Quat& b) {
 
 TEST(SmallestThree, IdentityIsTheLargestWWithThreeZeroLevels) {
   const std::uint32_t packed = pack_smallest_three({1, 0, 0, 0});
-  EXPECT_EQ(packed & 3u, 0u);                 // w is the largest
-  EXPECT_EQ((packed >> 2) & 1023u, 511u);     // zero is level 511
+  EXPECT_EQ(packed & 3u, 0u);              // w is the largest
+  EXPECT_EQ((packed >> 2) & 1023u, 511u);  // zero is level 511
   EXPECT_EQ((packed >> 12) & 1023u, 511u);
   EXPECT_EQ((packed >> 22) & 1023u, 511u);
   EXPECT_EQ(unpack_smallest_three(packed), (Quat{1, 0, 0, 0}));

@@ -83,12 +83,18 @@ ServerMessage::KindCase expected_reply(ClientMessage::KindCase request) {
 // The request id a reply echoes; 0 for messages that are not replies.
 std::uint64_t echoed_request_id(const ServerMessage& message) {
   switch (message.kind_case()) {
-    case ServerMessage::kAck: return message.ack().request_id();
-    case ServerMessage::kError: return message.error().request_id();
-    case ServerMessage::kBodyList: return message.body_list().request_id();
-    case ServerMessage::kSubscribed: return message.subscribed().request_id();
-    case ServerMessage::kStats: return message.stats().request_id();
-    default: return 0;
+    case ServerMessage::kAck:
+      return message.ack().request_id();
+    case ServerMessage::kError:
+      return message.error().request_id();
+    case ServerMessage::kBodyList:
+      return message.body_list().request_id();
+    case ServerMessage::kSubscribed:
+      return message.subscribed().request_id();
+    case ServerMessage::kStats:
+      return message.stats().request_id();
+    default:
+      return 0;
   }
 }
 

@@ -45,8 +45,8 @@ class Connection {
   // token, RESOURCE_EXHAUSTED when it is full). `token` is the server's
   // controller or observer token, or empty when it asks for none;
   // welcome().role() tells which role the connection got.
-  static Result<Connection> connect(const Endpoint& endpoint, const std::string& client_name,
-                                    const std::string& token, Timeout timeout);
+  static Result<Connection> connect(const Endpoint& endpoint, const std::string& client_name, const std::string& token,
+                                    Timeout timeout);
 
   Connection(Connection&& other) noexcept;
   Connection& operator=(Connection&& other) noexcept;

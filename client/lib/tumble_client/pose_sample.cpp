@@ -77,10 +77,9 @@ Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
   };
   for (const Field& field : fields) {
     if (!has_width(field.values, count, field.width)) {
-      return Failure{FailureKind::protocol, "the server sent a PoseFrame with " + std::to_string(count) +
-                                                " ids but " + std::to_string(field.values.size()) + " " +
-                                                field.name + " (expected " + std::to_string(count * field.width) +
-                                                ")"};
+      return Failure{FailureKind::protocol, "the server sent a PoseFrame with " + std::to_string(count) + " ids but " +
+                                                std::to_string(field.values.size()) + " " + field.name + " (expected " +
+                                                std::to_string(count * field.width) + ")"};
     }
   }
 

@@ -27,7 +27,7 @@ struct BodyPose {
 struct PoseSample {
   std::uint32_t subscription_id = 0;
   std::uint64_t tick = 0;
-  double sim_time = 0;  // s
+  double sim_time = 0;         // s
   bool has_velocities = true;  // false for a subscription to POSE_FIELDS_POSE
   std::vector<BodyPose> bodies;
 };

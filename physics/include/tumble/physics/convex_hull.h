@@ -37,8 +37,8 @@ struct ConvexHull {
   std::vector<Face> faces;
   std::vector<std::uint32_t> face_vertices;  // polygons of faces, indices into vertices
   std::vector<Edge> edges;
-  double bounding_radius = 0;         // max |v| over the vertices: a sphere about the origin holding the hull
-  Vec3 local_min = Vec3::Zero();      // bounding box of the vertices
+  double bounding_radius = 0;     // max |v| over the vertices: a sphere about the origin holding the hull
+  Vec3 local_min = Vec3::Zero();  // bounding box of the vertices
   Vec3 local_max = Vec3::Zero();
 
   // Index of a vertex furthest along direction (the first such in index

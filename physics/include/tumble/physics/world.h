@@ -120,10 +120,10 @@ class World {
   BodyId body_id_at(std::size_t index) const;
 
   // State, world frame.
-  const Vec3& position(BodyId id) const;          // centre of mass (m)
-  const Quat& orientation(BodyId id) const;       // body -> world, unit
-  Vec3 linear_velocity(BodyId id) const;          // v = P / M (m/s); kinematic: as set; static: 0
-  Vec3 angular_velocity(BodyId id) const;         // w = I^-1 L, I^-1 = R I_body^-1 R^T (rad/s)
+  const Vec3& position(BodyId id) const;     // centre of mass (m)
+  const Quat& orientation(BodyId id) const;  // body -> world, unit
+  Vec3 linear_velocity(BodyId id) const;     // v = P / M (m/s); kinematic: as set; static: 0
+  Vec3 angular_velocity(BodyId id) const;    // w = I^-1 L, I^-1 = R I_body^-1 R^T (rad/s)
   // Every body's id, position, orientation (w, x, y, z) and velocities, in
   // dense order (body_id_at), into flat arrays of body_count() entries:
   // ids[i], vectors at 3i, orientations at 4i. The values the accessors
