@@ -89,7 +89,7 @@ TEST(NetLoadSmoke, FieldInEveryEncoding) {
   // FULL: 28 bytes of float32 pose and an id byte, plus the frame's header shared by the bodies.
   EXPECT_GE(bytes_per_body["full"], 29);
   EXPECT_LE(bytes_per_body["full"], 35);
-  // QUANTIZED: at most 10 bytes a body here (README's layout), at least the 4 of its orientation.
+  // QUANTIZED: at most 10 bytes a body here (docs/protocol.md's layout), at least the 4 of its orientation.
   EXPECT_GE(bytes_per_body["quantized"], 4);
   EXPECT_LE(bytes_per_body["quantized"], 10.5);
   // DELTA: only the spinning tenth changes.
