@@ -2,9 +2,12 @@
 // shapes and a ground plane. Header-only.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <vector>
 
+#include "rotation.h"
 #include "tumble/physics/mass_properties.h"
 #include "tumble/physics/world.h"
 
@@ -62,6 +65,29 @@ inline std::uint64_t state_hash(const World& world) {
     mix(values, 7);
   }
   return hash;
+}
+
+// The pile of the determinism tests: 100 bodies (boxes, and spheres every
+// seventh) dropped in a loose block of 5 x 5 x 4 with varied orientations.
+// Returns their ids in the order added.
+inline std::vector<BodyId> add_loose_pile(World& world) {
+  std::vector<BodyId> ids;
+  for (int i = 0; i < 100; ++i) {
+    const int x = i % 5, z = (i / 5) % 5, y = i / 25;
+    const Vec3 position(1.2 * x + 0.1 * (y % 2), 1.0 + 1.3 * y, 1.2 * z);
+    BodyDesc desc = i % 7 == 3 ? sphere_body(position, 0.45) : box_body(position, 0.5);
+    desc.orientation = quat_from_rotation_vector(Vec3(0.3 * std::sin(i), 0.7 * std::cos(3.0 * i), 0.2 * i));
+    ids.push_back(world.add_body(desc));
+  }
+  return ids;
+}
+
+// What happens to that pile on the way, before step `step`: a push off
+// centre at step 600, a removal at step 900.
+inline void disturb_loose_pile(World& world, const std::vector<BodyId>& ids, int step) {
+  if (step == 600)
+    world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
+  if (step == 900) world.remove_body(ids[17]);
 }
 
 }  // namespace tumble::physics::testing

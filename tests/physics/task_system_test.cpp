@@ -82,19 +82,10 @@ std::vector<std::uint64_t> run_pile(TaskSystem* tasks) {
   World world;
   world.set_task_system(tasks);
   world.add_body(ground_plane());
-  std::vector<BodyId> ids;
-  for (int i = 0; i < 100; ++i) {
-    const int x = i % 5, z = (i / 5) % 5, y = i / 25;
-    const Vec3 position(1.2 * x + 0.1 * (y % 2), 1.0 + 1.3 * y, 1.2 * z);
-    BodyDesc desc = i % 7 == 3 ? sphere_body(position, 0.45) : box_body(position, 0.5);
-    desc.orientation = quat_from_rotation_vector(Vec3(0.3 * std::sin(i), 0.7 * std::cos(3.0 * i), 0.2 * i));
-    ids.push_back(world.add_body(desc));
-  }
+  const std::vector<BodyId> ids = add_loose_pile(world);
   std::vector<std::uint64_t> hashes;
   for (int i = 0; i < 5 * 240; ++i) {
-    if (i == 600)
-      world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
-    if (i == 900) world.remove_body(ids[17]);
+    disturb_loose_pile(world, ids, i);
     world.step(kTick);
     if ((i + 1) % 120 == 0) hashes.push_back(state_hash(world));
   }
