@@ -441,16 +441,15 @@ int main(int argc, char** argv) {
       after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(), server_cpu.c_str(),
       own_cpu.c_str(), static_cast<unsigned long long>(commands.sent), static_cast<unsigned long long>(errors));
   if (options.stall_watch) {
-    double longest_ms = 0, total_ms = 0;
-    for (const tumble::bench::Stall& stall : stalls) {
-      longest_ms = std::max(longest_ms, 1000 * (stall.end_s - stall.start_s));
-      total_ms += 1000 * (stall.end_s - stall.start_s);
-    }
+    const tumble::bench::StallFigures figures = tumble::bench::stall_figures(stalls);
+    // Whole hundredths of a millisecond, printed exactly.
     std::printf(
-        " stalls=%zu stall_ms_max=%.2f stall_ms_total=%.1f latency_over_goal=%zu latency_over_goal_in_stall=%zu "
-        "latency_in_stall=%zu latency_ms_p99_outside_stalls=%.2f",
-        stalls.size(), longest_ms, total_ms, slow, slow_in_stall, latency.samples.size() - outside_stalls_ms.size(),
-        tumble::bench::percentile(outside_stalls_ms, 0.99));
+        " stalls=%zu stall_ms_max=%lld.%02lld stall_ms_total=%lld.%02lld latency_over_goal=%zu "
+        "latency_over_goal_in_stall=%zu latency_in_stall=%zu latency_ms_p99_outside_stalls=%.2f",
+        figures.count, static_cast<long long>(figures.longest_cms / 100),
+        static_cast<long long>(figures.longest_cms % 100), static_cast<long long>(figures.total_cms / 100),
+        static_cast<long long>(figures.total_cms % 100), slow, slow_in_stall,
+        latency.samples.size() - outside_stalls_ms.size(), tumble::bench::percentile(outside_stalls_ms, 0.99));
   }
   std::printf("\n");
   if (latency_log != nullptr) {

@@ -5,7 +5,9 @@
 #include <time.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <mutex>
 #include <stdexcept>
@@ -102,6 +104,17 @@ bool overlaps_stall(const std::vector<Stall>& stalls, double from_s, double to_s
     if (it->end_s >= from_s) return true;
   }
   return false;
+}
+
+StallFigures stall_figures(const std::vector<Stall>& stalls) {
+  StallFigures figures;
+  figures.count = stalls.size();
+  for (const Stall& stall : stalls) {
+    const std::int64_t length_cms = std::llround(1e5 * (stall.end_s - stall.start_s));  // s -> 0.01 ms
+    figures.longest_cms = std::max(figures.longest_cms, length_cms);
+    figures.total_cms += length_cms;
+  }
+  return figures;
 }
 
 }  // namespace tumble::bench

@@ -22,6 +22,8 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -49,5 +51,17 @@ std::vector<Stall> watch_stalls(std::chrono::steady_clock::time_point start, std
 
 // True when [from_s, to_s] overlaps any of `stalls` (ordered by start).
 bool overlaps_stall(const std::vector<Stall>& stalls, double from_s, double to_s);
+
+// The figures a report gives of a run's stalls, in hundredths of a
+// millisecond (the report's 2 decimals). Each stall's length is rounded
+// first and the total is the sum of the rounded lengths, so the printed
+// figures agree exactly: longest <= total <= longest * count, and every
+// stall, longer than kStallMs, counts at least kStallMs.
+struct StallFigures {
+  std::size_t count = 0;
+  std::int64_t longest_cms = 0;  // 0.01 ms
+  std::int64_t total_cms = 0;    // 0.01 ms
+};
+StallFigures stall_figures(const std::vector<Stall>& stalls);
 
 }  // namespace tumble::bench

@@ -28,7 +28,6 @@ Status run_until(Simulation& sim, std::uint64_t tick) {
 
 Status replay_journal(JournalReader& journal, Simulation& sim, ReplaySummary* summary) {
   *summary = ReplaySummary{};
-  sim.set_replaying(true);
   tumble::v1::JournalEntry entry;
   bool pending = false;  // commands submitted and not yet applied by a pass
   Status status;
@@ -59,7 +58,6 @@ Status replay_journal(JournalReader& journal, Simulation& sim, ReplaySummary* su
     sim.submit(Command{pause, nullptr, nullptr});
     sim.run_tick();
   }
-  sim.set_replaying(false);
   summary->end_tick = sim.tick();
   return status;
 }

@@ -172,11 +172,13 @@ void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.sto
 
 void Simulation::run_pass(double late_ms) {
   timing_.record_start_late(late_ms);
-  run_tick();
+  pass(std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dt_)));
   record_.checkpoint_if_due();
 }
 
-void Simulation::run_tick() {
+void Simulation::run_tick() { pass(Clock::duration::zero()); }
+
+void Simulation::pass(Clock::duration step_budget) {
   // CPU time read inside the wall-clock span, so a tick's is never above its wall time.
   Clock::time_point started = Clock::now();
   double cpu_started = TickTiming::thread_cpu_ms();
@@ -195,9 +197,8 @@ void Simulation::run_tick() {
     const Clock::time_point now = Clock::now();
     timing_.record_step(milliseconds(now - started), cpu_now - cpu_started);
   } else if (steps_left_ > 0) {
-    // A Step: its ticks back to back, for at most one tick period of wall time per pass.
-    const Clock::time_point budget_end =
-        started + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(dt_));
+    // A Step: its ticks back to back, for at most step_budget of wall time (at least one tick).
+    const Clock::time_point budget_end = started + step_budget;
     do {
       advance();
       const double cpu_now = TickTiming::thread_cpu_ms();
@@ -205,7 +206,7 @@ void Simulation::run_tick() {
       timing_.record_step(milliseconds(now - started), cpu_now - cpu_started);
       started = Clock::now();
       cpu_started = TickTiming::thread_cpu_ms();
-    } while (paused_ && steps_left_ > 0 && started < budget_end && !replaying_);
+    } while (paused_ && steps_left_ > 0 && started < budget_end);
   } else {
     // No step: show edits at once, and serve a new subscriber's first frame.
     if (edited_ && sleep_.watching()) sleep_.scan(world_, directory_, next_tick_, &events_);

@@ -104,11 +104,6 @@ class Simulation {
   void set_checkpoints(std::chrono::steady_clock::duration interval,
                        std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink);
 
-  // While replaying, a Step advances one tick per run_tick() instead of as
-  // many as one tick period of wall time allows, so that a replay executes
-  // each recorded command at the same tick as the recorded run did.
-  void set_replaying(bool replaying) { replaying_ = replaying; }
-
   // The whole world as it is now. On the sim thread, or while not started.
   void capture(tumble::v1::WorldState* state) const;
 
@@ -143,10 +138,11 @@ class Simulation {
   // bodies after every step), because a subscriber asked for those events.
   void set_sleep_events_wanted(bool wanted);
 
-  // One pass of the loop: applies queued commands, then, unless paused,
-  // steps once and publishes if due; paused, it runs the ticks of a Step
-  // under way, or publishes an edit or a requested snapshot of the current
-  // tick.
+  // One pass of the loop without the clock: applies queued commands, then,
+  // unless paused, steps once and publishes if due; paused, it runs one tick
+  // of a Step under way, or publishes an edit or a requested snapshot of the
+  // current tick. One tick a call, whatever the wall time, so a test or a
+  // replay executes each command at the same tick on any machine.
   void run_tick();
 
   double tick_rate_hz() const { return tick_rate_hz_.load(std::memory_order_relaxed); }
@@ -172,8 +168,12 @@ class Simulation {
   // Fills an empty world and directory with the bodies of scene_.
   Status build_world(physics::World* world, BodyDirectory* directory) const;
 
-  // One pass of the clock loop on the sim thread.
+  // One pass of the clock loop on the sim thread: a Step under way runs as
+  // many ticks as one tick period of wall time allows.
   void run_pass(double late_ms);
+  // One pass (run_tick()), with a Step under way running its ticks back to
+  // back for up to step_budget of wall time, and at least one.
+  void pass(Clock::duration step_budget);
   // One step: loads, World::step, the tick, sleep changes, a Step's
   // countdown, events and the snapshot if due.
   void advance();
@@ -234,7 +234,6 @@ class Simulation {
   SleepWatch sleep_;              // watching while sleep_events_wanted_
   WorldEvents events_;            // of the tick being made
   TickTiming timing_;
-  bool replaying_ = false;
   RunRecord record_;  // the journal and the checkpoints
   SnapshotListener listener_;
   WorldEventListener event_listener_;

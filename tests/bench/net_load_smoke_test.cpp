@@ -7,8 +7,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -59,6 +61,27 @@ double number(const Report& report, const std::string& key) {
     return -1;
   }
   return std::stod(it->second);
+}
+
+// A figure the report prints with exactly 2 decimals, in whole hundredths,
+// read from its digits (no floating-point rounding).
+std::int64_t hundredths(const Report& report, const std::string& key) {
+  const auto it = report.find(key);
+  if (it == report.end()) {
+    ADD_FAILURE() << "no " << key << " in the report";
+    return -1;
+  }
+  const std::string& text = it->second;
+  const std::size_t point = text.find('.');
+  const auto is_digit = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; };
+  // Digits, a point, and two digits.
+  if (point == std::string::npos || point == 0 || text.size() != point + 3 ||
+      !std::all_of(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(point), is_digit) ||
+      !std::all_of(text.begin() + static_cast<std::ptrdiff_t>(point) + 1, text.end(), is_digit)) {
+    ADD_FAILURE() << key << "=" << text << " is not a figure with 2 decimals";
+    return -1;
+  }
+  return std::stoll(text.substr(0, point)) * 100 + std::stoll(text.substr(point + 1));
 }
 
 // Frames came (no more than the window can hold), nothing failed.
@@ -195,18 +218,20 @@ TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
   EXPECT_LT(
       std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l < p99 - 0.005; }),
       rank);
-  // The stall figures agree with each other: a whole count, each stall
-  // longer than the 2 ms that makes one (bench/net/stall_watch.h) and none
-  // longer than the longest; none at all when no sample spans one. (The
-  // report has 2 decimals for the longest, 1 for the total.)
+  // The stall figures agree with each other exactly: a whole count, and
+  // the total the sum of lengths in whole hundredths of a millisecond, each
+  // at least the 2 ms that makes a stall (bench/net/stall_watch.h) and none
+  // longer than the longest; none at all when no sample spans one.
   const double stalls = number(report, "stalls");
-  const double longest_ms = number(report, "stall_ms_max");
-  const double total_ms = number(report, "stall_ms_total");
   EXPECT_EQ(stalls, std::floor(stalls));
-  EXPECT_GE(total_ms, 2.0 * stalls - 0.05);
-  EXPECT_LE(total_ms, longest_ms * stalls + 0.05);
-  EXPECT_GE(total_ms, longest_ms - 0.05);
-  EXPECT_EQ(longest_ms > 0, stalls > 0);
+  const std::int64_t count = std::llround(stalls);
+  const std::int64_t longest_cms = hundredths(report, "stall_ms_max");
+  const std::int64_t total_cms = hundredths(report, "stall_ms_total");
+  EXPECT_GE(total_cms, 200 * count);
+  EXPECT_GE(total_cms, longest_cms);
+  EXPECT_LE(total_cms, longest_cms * count);
+  EXPECT_EQ(longest_cms >= 200, count > 0);
+  EXPECT_EQ(longest_cms == 0, count == 0);
   if (number(report, "latency_in_stall") > 0) {
     EXPECT_GT(stalls, 0) << "a sample spans a stall that was not counted";
   }

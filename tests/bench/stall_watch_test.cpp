@@ -30,6 +30,27 @@ TEST(StallWatch, OverlapsAStallOnlyWhenTheSpansShareAMoment) {
   EXPECT_FALSE(overlaps_stall({}, 0, 10));
 }
 
+// The report's figures, in whole hundredths of a millisecond, agree
+// exactly: each length is rounded before the sum.
+TEST(StallWatch, FiguresRoundEachStallBeforeTheTotal) {
+  // One of 29.526 ms: a total printed with 1 decimal read 29.5, below a
+  // longest of 29.53.
+  const StallFigures one = stall_figures({{1.0, 1.029526, 0}});
+  EXPECT_EQ(one.count, 1u);
+  EXPECT_EQ(one.longest_cms, 2953);
+  EXPECT_EQ(one.total_cms, 2953);
+  // Two of 2.004 ms: summed before rounding the total would be 4.01 ms,
+  // more than twice the longest, 2.00.
+  const StallFigures two = stall_figures({{1.0, 1.002004, 0}, {2.0, 2.002004, 1}});
+  EXPECT_EQ(two.count, 2u);
+  EXPECT_EQ(two.longest_cms, 200);
+  EXPECT_EQ(two.total_cms, 400);
+  const StallFigures none = stall_figures({});
+  EXPECT_EQ(none.count, 0u);
+  EXPECT_EQ(none.longest_cms, 0);
+  EXPECT_EQ(none.total_cms, 0);
+}
+
 // A SCHED_FIFO thread at priority 99, above the watcher's 90, spinning on
 // CPU 0 for 30 ms is, to the watcher of CPU 0, the CPU taken away.
 TEST(StallWatch, ACpuHeldAboveTheWatchersPriorityIsAStallOfThatCpu) {

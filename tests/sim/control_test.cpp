@@ -426,14 +426,39 @@ TEST_F(ControlTest, StepRunsExactlyItsTicksAndAcksTheLast) {
 }
 
 TEST_F(ControlTest, ASecondStepWhileOneIsUnderWayIsRefused) {
+  // run_tick() runs one tick of a Step a call, so the Step is under way
+  // between calls whatever the machine's speed.
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  auto first = driver_.submit(step_message(3));
+  driver_.run(1);
+  EXPECT_EQ(driver_.sim().tick(), 1u);
+  EXPECT_FALSE(first->has_value()) << "one tick of three";
+  auto second = driver_.submit(step_message(3));
+  driver_.run(1);
+  ASSERT_TRUE(second->has_value());
+  EXPECT_EQ((*second)->error().code(), tumble::v1::FAILED_PRECONDITION);
+  EXPECT_EQ(driver_.sim().tick(), 2u) << "the refused Step added no ticks";
+  EXPECT_FALSE(first->has_value());
+  driver_.run(1);
+  ASSERT_TRUE(first->has_value());
+  EXPECT_EQ((*first)->ack().applied_tick(), 3u) << "paused at tick 0, then 3 ticks";
+  driver_.run(5);
+  EXPECT_EQ(driver_.sim().tick(), 3u) << "paused again after the Step";
+  // Once the first is done, a Step is accepted again.
+  EXPECT_EQ(driver_.request(step_message(2)).ack().applied_tick(), 5u);
+}
+
+TEST_F(ControlTest, TwoStepsInOnePassTheSecondIsRefused) {
   ASSERT_TRUE(driver_.request(pause_message()).has_ack());
   auto first = driver_.submit(step_message(3));
   auto second = driver_.submit(step_message(3));
   driver_.run(1);
   ASSERT_TRUE(second->has_value());
   EXPECT_EQ((*second)->error().code(), tumble::v1::FAILED_PRECONDITION);
+  driver_.run(2);
   ASSERT_TRUE(first->has_value());
-  EXPECT_EQ((*first)->ack().applied_tick(), 3u) << "paused at tick 0, then 3 ticks";
+  EXPECT_EQ((*first)->ack().applied_tick(), 3u);
+  EXPECT_EQ(driver_.sim().tick(), 3u);
 }
 
 TEST_F(ControlTest, StepOutOfRangeIsInvalid) {
