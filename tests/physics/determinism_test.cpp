@@ -13,7 +13,9 @@
 namespace tumble::physics {
 namespace {
 
+using testing::add_loose_pile;
 using testing::box_body;
+using testing::disturb_loose_pile;
 using testing::ground_plane;
 using testing::kTick;
 using testing::sphere_body;

@@ -3,12 +3,10 @@
 // threads the tasks run in, and really hands its phases to that system.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <cstdint>
 #include <thread>
 #include <vector>
 
-#include "rotation.h"
 #include "scene_helpers.h"
 #include "tumble/physics/task_system.h"
 #include "tumble/physics/world.h"
@@ -16,10 +14,10 @@
 namespace tumble::physics {
 namespace {
 
-using testing::box_body;
+using testing::add_loose_pile;
+using testing::disturb_loose_pile;
 using testing::ground_plane;
 using testing::kTick;
-using testing::sphere_body;
 using testing::state_hash;
 
 // Counts what the World asks of it; the tasks themselves are run by
