@@ -383,6 +383,12 @@ bool reach_tick(sim::Simulation& sim, std::uint64_t tick) {
 }
 
 TEST(NeverReadingClientTest, AClientThatNeverReadsDoesNotGrowTheServer) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // AddressSanitizer keeps freed memory resident in its quarantine (256 MB
+  // by default) and ThreadSanitizer shadows what is allocated, so there the
+  // resident set is not the server's: the plain build measures this.
+  GTEST_SKIP() << "resident memory is not the server's under a sanitizer";
+#endif
   // 400 bodies, every tick, to a client that never reads: about 12 kB a
   // frame, 240 frames a second. Frames are latest-wins, so once the socket
   // buffers are full the server holds one frame for this client however
