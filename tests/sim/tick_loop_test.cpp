@@ -51,6 +51,23 @@ class PassLog {
   std::vector<double> late_ms_;
 };
 
+// Starts `loop` at kRateHz with a first pass that works for 20 ms (20
+// periods), waits for its second pass, stops it, and returns how late the
+// two passes began.
+std::vector<double> run_two_passes_the_first_20_ms_long(TickLoop& loop) {
+  PassLog log;
+  int pass = 0;
+  loop.start([] {},
+             [&](double late_ms) {
+               if (pass++ == 0) busy_for(milliseconds(20));
+               log.add(late_ms);
+             },
+             [] { return kRateHz; });
+  std::vector<double> late = log.wait_for(2);
+  loop.stop();
+  return late;
+}
+
 TEST(TickLoop, RunsBeginOnItsNamedThreadBeforeThePasses) {
   TickLoop loop(8);
   PassLog log;
@@ -80,16 +97,7 @@ TEST(TickLoop, CatchesUpAPassThatOverranWithinTheBound) {
   // 20 periods late, 1000 allowed: the next passes run at once, late, and
   // nothing is skipped.
   TickLoop loop(1000);
-  PassLog log;
-  int pass = 0;
-  loop.start([] {},
-             [&](double late_ms) {
-               if (pass++ == 0) busy_for(milliseconds(20));
-               log.add(late_ms);
-             },
-             [] { return kRateHz; });
-  const std::vector<double> late = log.wait_for(2);
-  loop.stop();
+  const std::vector<double> late = run_two_passes_the_first_20_ms_long(loop);
   // Pass 2 was due 1 ms after the start and began after the 20 ms of pass 1.
   EXPECT_GE(late[1], 19.0);
   EXPECT_EQ(loop.overruns(), 0u);
@@ -98,16 +106,7 @@ TEST(TickLoop, CatchesUpAPassThatOverranWithinTheBound) {
 TEST(TickLoop, SkipsAndCountsTheDeadlinesOfAPassFarBehind) {
   // 20 periods late, 2 allowed: the missed deadlines are skipped and counted.
   TickLoop loop(2);
-  PassLog log;
-  int pass = 0;
-  loop.start([] {},
-             [&](double late_ms) {
-               if (pass++ == 0) busy_for(milliseconds(20));
-               log.add(late_ms);
-             },
-             [] { return kRateHz; });
-  log.wait_for(2);
-  loop.stop();
+  run_two_passes_the_first_20_ms_long(loop);
   // The first pass ended at least 20 ms after the start, the deadline 1 ms
   // after it: at least 19 whole periods behind.
   EXPECT_GE(loop.overruns(), 19u);
