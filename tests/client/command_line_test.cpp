@@ -10,6 +10,7 @@
 #include "command_line_helpers.h"
 #include "exit_code.h"
 #include "requests.h"
+#include "support/scoped_env.h"
 
 namespace tumble::cli {
 namespace {
@@ -18,31 +19,7 @@ using testing::expect_usage_error;
 using testing::parse;
 using testing::parse_command;
 
-// Sets (or, given null, unsets) an environment variable for one scope.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value) {
-      ::setenv(name, value, 1);
-    } else {
-      ::unsetenv(name);
-    }
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      ::setenv(name_, old_->c_str(), 1);
-    } else {
-      ::unsetenv(name_);
-    }
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using tumble::test::ScopedEnv;
 
 TEST(CommandLine, GlobalOptionsDefaults) {
   ScopedEnv server("TUMBLE_SERVER", nullptr);

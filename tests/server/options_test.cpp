@@ -9,36 +9,13 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scoped_env.h"
 #include "tumble/version.h"
 
 namespace tumble::server {
 namespace {
 
-// Sets (or, given null, unsets) an environment variable for one scope.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const char* value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value) {
-      ::setenv(name, value, 1);
-    } else {
-      ::unsetenv(name);
-    }
-  }
-  ~ScopedEnv() {
-    if (old_) {
-      ::setenv(name_, old_->c_str(), 1);
-    } else {
-      ::unsetenv(name_);
-    }
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
+using tumble::test::ScopedEnv;
 
 // Clears the token variables for one test, so the machine's cannot leak in.
 class ServerOptionsTest : public ::testing::Test {
