@@ -1,100 +1,31 @@
 // World::step does not allocate once warmed up (world.h: "step() does not
 // allocate once the arrays have grown to the scene"). This binary replaces
-// the global operator new and delete to count allocations, which is why it
-// is an executable of its own. A pile of boxes, spheres, capsules and a hull
+// the global operator new and delete to count allocations
+// (counting_allocator.h), which is why it is an executable of its own. A pile of boxes, spheres, capsules and a hull
 // on a plane and a static box falls, settles and sleeps; a kick and a ball
 // dropped on it wake it again. After two such cycles of warm-up, a third
 // one of 600 steps (sleeping, waking, settling, sleeping again) must not
 // allocate at all.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cstddef>
-#include <cstdlib>
 #include <new>
 #include <vector>
 
+#include "counting_allocator.h"
 #include "scene_helpers.h"
 #include "tumble/physics/convex_hull.h"
 #include "tumble/physics/mass_properties.h"
 #include "tumble/physics/world.h"
 
-namespace {
-
-std::atomic<bool> counting{false};
-std::atomic<std::size_t> allocation_count{0};
-
-void* counted_allocate(std::size_t size) {
-  if (counting.load(std::memory_order_relaxed)) allocation_count.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(size == 0 ? 1 : size);
-}
-
-void* counted_allocate_aligned(std::size_t size, std::align_val_t alignment) {
-  if (counting.load(std::memory_order_relaxed)) allocation_count.fetch_add(1, std::memory_order_relaxed);
-  const std::size_t align = static_cast<std::size_t>(alignment);
-  const std::size_t rounded = (size + align - 1) / align * align;  // aligned_alloc wants a multiple
-  return std::aligned_alloc(align, rounded == 0 ? align : rounded);
-}
-
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (void* p = counted_allocate(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size) {
-  if (void* p = counted_allocate(size)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_allocate(size); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_allocate(size); }
-void* operator new(std::size_t size, std::align_val_t alignment) {
-  if (void* p = counted_allocate_aligned(size, alignment)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t size, std::align_val_t alignment) {
-  if (void* p = counted_allocate_aligned(size, alignment)) return p;
-  throw std::bad_alloc();
-}
-void* operator new(std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
-  return counted_allocate_aligned(size, alignment);
-}
-void* operator new[](std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
-  return counted_allocate_aligned(size, alignment);
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-
 namespace tumble::physics {
 namespace {
 
+using testing::AllocationCounter;
 using testing::box_body;
 using testing::ground_plane;
 using testing::kTick;
 using testing::sphere_body;
-
-// Counts the allocations made while it lives.
-class AllocationCounter {
- public:
-  AllocationCounter() {
-    allocation_count.store(0);
-    counting.store(true);
-  }
-  ~AllocationCounter() { counting.store(false); }
-  AllocationCounter(const AllocationCounter&) = delete;
-  AllocationCounter& operator=(const AllocationCounter&) = delete;
-  std::size_t count() const { return allocation_count.load(); }
-};
 
 TEST(AllocationTest, CounterSeesAllocations) {
   // The replacement is in effect: a vector's buffer and a direct call of
