@@ -33,7 +33,8 @@ class BodyDirectory {
   // Resolves a reference by id or by name; kInvalidBodyId when unknown.
   physics::BodyId resolve(const tumble::v1::BodyRef& ref) const;
 
-  // "body 'crate'" or "body 7", for messages.
+  // "body 'crate'" or "body 7", for messages (the name escaped and bounded
+  // by log_text).
   static std::string describe(const tumble::v1::BodyRef& ref);
 
   // The name of `id`, or "" for unnamed or unknown bodies.

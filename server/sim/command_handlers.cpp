@@ -10,6 +10,7 @@
 
 #include "sim/body_spec.h"
 #include "sim/log.h"
+#include "sim/log_text.h"
 #include "sim/reply.h"
 #include "sim/simulation.h"
 #include "sim/world_state.h"
@@ -191,7 +192,7 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   }
   if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
     return error_reply(message, tumble::v1::INVALID_ARGUMENT,
-                       "body.name: '" + spec.name() + "' is used by another body");
+                       "body.name: '" + log_text(spec.name()) + "' is used by another body");
   }
   physics::BodyDesc converted;
   const physics::BodyDesc* desc = command.body_desc.get();
