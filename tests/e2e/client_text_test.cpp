@@ -1,10 +1,12 @@
 // Text from clients and files through the real tumbled and tumble: a forged
-// log line stays one escaped line, and names of digits only are refused in
-// scenes and cleared from old state files.
+// log line stays one escaped line, names of digits only are refused in
+// scenes and cleared from old state files, and `tumble bodies` lists a
+// world of 100,000 bodies whole, page after page.
 #include <gtest/gtest.h>
 
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -81,6 +83,38 @@ TEST(ClientText, AStateFileWithANameOfDigitsOnlyLoadsWithoutIt) {
   EXPECT_EQ(list["bodies"][0]["name"], "crate");
   EXPECT_EQ(list["bodies"][1]["name"], "");
   EXPECT_EQ(list["bodies"][1]["id"], 1);
+}
+
+// 100,000 static crates, 2 m apart on a 1000 x 100 grid, each turned about
+// y: about 10 MB of BodyInfo, more than a client may leave unread
+// (--max-pending-bytes, 8 MiB), and nothing for the physics to do.
+std::string hundred_thousand_bodies() {
+  std::ostringstream scene;
+  scene << R"({"gravity": [0, 0, 0], "bodies": [)";
+  for (int i = 0; i < 100000; ++i) {
+    scene << (i ? "," : "") << R"({"name": "crate-)" << i << R"(", "static": true,)"
+          << R"( "shape": {"box": {"half_extents": [0.5, 0.25, 0.4]}}, "orientation": [0.8, 0, 0.6, 0],)"
+          << R"( "position": [)" << 2 * (i % 1000) << ", 0.25, " << 2 * (i / 1000) << "]}";
+  }
+  scene << "]}";
+  return scene.str();
+}
+
+TEST(ClientText, TumbleBodiesListsAHundredThousandBodiesWhole) {
+  TumbledProcess server(hundred_thousand_bodies());
+  ASSERT_TRUE(server.started()) << server.log();
+  const CommandResult result = server.cli({"--json", "bodies"}, std::chrono::seconds(120));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const nlohmann::json list = nlohmann::json::parse(result.out, nullptr, false);
+  ASSERT_TRUE(list.is_object()) << result.out.substr(0, 200);
+  const nlohmann::json& bodies = list["bodies"];
+  ASSERT_EQ(bodies.size(), 100000u);
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    ASSERT_EQ(bodies[i]["id"], i);
+    ASSERT_EQ(bodies[i]["name"], "crate-" + std::to_string(i));
+  }
+  EXPECT_EQ(bodies[99999]["position"], nlohmann::json::array({1998.0, 0.25, 198.0}));
+  EXPECT_EQ(bodies[99999]["orientation"], nlohmann::json::array({0.8, 0.0, 0.6, 0.0}));
 }
 
 }  // namespace

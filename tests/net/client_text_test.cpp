@@ -1,12 +1,15 @@
 // Text from clients over a real socket: names and Hello strings past their
-// limits are refused with errors naming the field and the limit.
+// limits are refused with errors naming the field and the limit, and a
+// world's body list reaches a reading client in pages however large it is.
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "raw_client.h"
 #include "replies.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -101,6 +104,40 @@ TEST(ClientText, HelloStringsPastTheirLimitsEndTheHandshake) {
   RawClient fine(server.port());
   const auto welcome = fine.handshake(std::string(128, 'c'));
   EXPECT_TRUE(welcome && welcome->has_welcome());
+}
+
+TEST(ClientText, ABodyListLargerThanThePendingLimitArrivesInPages) {
+  // 400 bodies of about 100 bytes each: 40 KB, ten times what this client may
+  // leave unread. Pages of half the limit reach it one after the other.
+  net::SessionLimits limits;
+  limits.max_pending_bytes = 4096;
+  TestServer server(row_of_spheres(400), 240, limits);
+  RawClient client(server.port());
+  ASSERT_TRUE(client.handshake());
+
+  // An empty ListBodies, as a client that knows nothing of pages sends it.
+  ServerMessage reply = reply_to(client, list_bodies(2));
+  ASSERT_TRUE(reply.has_body_list()) << reply.ShortDebugString();
+  const tumble::v1::BodyList& first = reply.body_list();
+  EXPECT_EQ(first.total_bodies(), 400u);
+  EXPECT_GT(first.bodies_size(), 0);
+  EXPECT_LT(first.bodies_size(), 400);
+  EXPECT_EQ(first.next_start_id(), first.bodies(first.bodies_size() - 1).id() + 1);
+
+  std::vector<std::string> names;
+  std::uint32_t start = 0;
+  std::uint64_t request = 10;
+  do {
+    ClientMessage page = list_bodies(++request);
+    page.mutable_list_bodies()->set_start_id(start);
+    reply = reply_to(client, page);
+    ASSERT_TRUE(reply.has_body_list()) << reply.ShortDebugString();
+    EXPECT_LE(reply.ByteSizeLong(), 4096u / 2 + 64);  // a page and the BodyList's own fields
+    for (const auto& body : reply.body_list().bodies()) names.push_back(body.name());
+    start = reply.body_list().next_start_id();
+  } while (start != 0 && names.size() <= 400);
+  ASSERT_EQ(names.size(), 400u);
+  for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], "s" + std::to_string(i));
 }
 
 }  // namespace
