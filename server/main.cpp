@@ -13,6 +13,7 @@
 #include "net/server.h"
 #include "options.h"
 #include "realtime.h"
+#include "sim/log_text.h"
 #include "sim/state_file.h"
 #include "startup.h"
 #include "tumble/version.h"
@@ -89,7 +90,8 @@ int main(int argc, char** argv) {
 
   tumble::server::ReadyWorld world;
   if (auto status = tumble::server::start_world(options, *log, &world); !status.ok()) {
-    log->error("{}", status.message());
+    // The message may quote a scene, state or journal file.
+    log->error("{}", tumble::sim::log_text(status.message(), tumble::sim::kLogMessageBytes));
     return kExitFailure;
   }
   tumble::sim::Simulation& sim = *world.sim;

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <sstream>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
 #include "realtime.h"
 #include "sim/request_check.h"
+#include "sim/string_limits.h"
 #include "tumble/version.h"
 
 namespace tumble::server {
@@ -142,6 +144,13 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
     return usage_error(one_line(error.what()));
   }
 
+  // A longer token could never be matched: a Hello's is refused beyond the limit.
+  for (const auto& [flag, token] :
+       {std::pair{"--token", &options.tokens.controller}, std::pair{"--observer-token", &options.tokens.observer}}) {
+    if (auto status = sim::check_text_length(*token, flag, sim::kMaxTokenBytes); !status.ok()) {
+      return usage_error(status.message());
+    }
+  }
   if (!options.tokens.controller.empty() && options.tokens.controller == options.tokens.observer) {
     return usage_error("--token and --observer-token must differ: a client's role is told by its token");
   }

@@ -1,5 +1,6 @@
 #include "startup.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 
@@ -90,6 +91,8 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
   config.tick_rate_hz = options.tick_rate_hz;
   config.max_bodies = options.max_bodies;
   config.physics_threads = options.physics_threads;
+  // A page of ListBodies is never more than a client that reads may leave unread.
+  config.list_page_bytes = std::min(config.list_page_bytes, options.max_pending_bytes / 2);
 
   sim::JournalReader replay;
   Origin origin;

@@ -11,6 +11,7 @@
 #include "net/static_assets.h"
 #include "net/tcp_transport.h"
 #include "net/websocket_transport.h"
+#include "sim/log_text.h"
 
 namespace tumble::net {
 
@@ -143,9 +144,10 @@ void HttpConnection::handle(const Request& request) {
       return;
     }
     if (!same_origin(request)) {
-      refuse(http::status::forbidden,
-             "a WebSocket from a page of another origin (" + std::string(request[http::field::origin]) + ") is refused",
-             false);
+      refuse(
+          http::status::forbidden,
+          "a WebSocket from a page of another origin (" + sim::log_text(request[http::field::origin]) + ") is refused",
+          false);
       return;
     }
     upgrade(request);
@@ -153,7 +155,7 @@ void HttpConnection::handle(const Request& request) {
   }
   const StaticAsset* asset = find_static_asset(request.target());
   if (!asset) {
-    refuse(http::status::not_found, "no such file: " + std::string(path), keep_alive);
+    refuse(http::status::not_found, "no such file: " + sim::log_text(path), keep_alive);
     return;
   }
   make_response(http::status::ok, asset->content_type, asset->bytes, head);
@@ -200,7 +202,7 @@ HttpConnection::Response& HttpConnection::make_response(http::status status, std
 
 void HttpConnection::write_response(bool keep_alive) {
   response_->keep_alive(keep_alive);
-  net_log().debug("http {}: {} {} -> {}", id_, peer_, request_line_, response_->result_int());
+  net_log().debug("http {}: {} {} -> {}", id_, peer_, sim::log_text(request_line_), response_->result_int());
   stream_.expires_after(kWriteTimeout);
   http::async_write(stream_, *response_,
                     [self = shared_from_this(), keep_alive](const boost::system::error_code& error, std::size_t) {
@@ -209,8 +211,9 @@ void HttpConnection::write_response(bool keep_alive) {
 }
 
 void HttpConnection::refuse(http::status status, std::string text, bool keep_alive) {
-  net_log().info("http {}: {} {}: {} {}", id_, peer_, request_line_.empty() ? "(no request line)" : request_line_,
-                 static_cast<unsigned>(status), text);
+  net_log().info("http {}: {} {}: {} {}", id_, peer_,
+                 request_line_.empty() ? "(no request line)" : sim::log_text(request_line_),
+                 static_cast<unsigned>(status), sim::log_text(text, sim::kLogMessageBytes));
   error_text_ = std::move(text);
   error_text_ += "\n";
   const bool head = parser_ && parser_->is_header_done() && parser_->get().method() == http::verb::head;
@@ -259,7 +262,7 @@ void HttpConnection::drain() {
 
 void HttpConnection::finish(const std::string& reason) {
   if (closed_) return;
-  net_log().debug("http {}: {} closed: {}", id_, peer_, reason);
+  net_log().debug("http {}: {} closed: {}", id_, peer_, sim::log_text(reason, sim::kLogMessageBytes));
   close();
 }
 

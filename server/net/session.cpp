@@ -6,6 +6,7 @@
 
 #include "net/log.h"
 #include "net/publisher.h"
+#include "sim/log_text.h"
 #include "sim/request_check.h"
 #include "sim/simulation.h"
 #include "wire/quantized_poses.h"
@@ -129,6 +130,10 @@ void Session::handle_hello(const ClientMessage& message) {
          message.request_id());
     return;
   }
+  if (auto problem = sim::check_hello(hello)) {
+    fail(problem->code, problem->message, message.request_id());
+    return;
+  }
   const std::optional<tumble::v1::Role> role = authenticate(context_.access, hello.token());
   if (!role) {
     fail(tumble::v1::UNAUTHENTICATED,
@@ -150,7 +155,7 @@ void Session::handle_hello(const ClientMessage& message) {
   welcome.set_body_count(context_.sim.body_count());
   welcome.set_role(role_);
   send(reply);
-  net_log().info("session {}: {} '{}' joined as {} over {}", id_, peer_, client_name_,
+  net_log().info("session {}: {} '{}' joined as {} over {}", id_, peer_, sim::log_text(client_name_),
                  role_ == tumble::v1::ROLE_OBSERVER ? "an observer" : "a controller", transport_->kind());
 }
 
@@ -272,7 +277,8 @@ void Session::send_error(std::uint64_t request_id, tumble::v1::ErrorCode code, c
 }
 
 void Session::fail(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id) {
-  net_log().warn("session {}: {}: {} ({}); closing", id_, peer_, text, tumble::v1::ErrorCode_Name(code));
+  net_log().warn("session {}: {}: {} ({}); closing", id_, peer_, sim::log_text(text, sim::kLogMessageBytes),
+                 tumble::v1::ErrorCode_Name(code));
   send_error(request_id, code, text);
   reading_stopped_ = true;
   close_when_flushed_ = true;
@@ -380,7 +386,7 @@ void Session::close(const std::string& reason) {
   if (closed_) return;
   closed_ = true;
   --context_.counters.clients;
-  net_log().info("session {}: {} disconnected: {}", id_, peer_, reason);
+  net_log().info("session {}: {} disconnected: {}", id_, peer_, sim::log_text(reason, sim::kLogMessageBytes));
   transport_->close();
   linger_timer_.cancel();
   context_.publisher.remove_session(*this);

@@ -1,5 +1,7 @@
 #include "sim/body_directory.h"
 
+#include "sim/log_text.h"
+
 namespace tumble::sim {
 
 void BodyDirectory::add(physics::BodyId id, BodyEntry entry) {
@@ -37,7 +39,7 @@ physics::BodyId BodyDirectory::resolve(const tumble::v1::BodyRef& ref) const {
 }
 
 std::string BodyDirectory::describe(const tumble::v1::BodyRef& ref) {
-  if (ref.ref_case() == tumble::v1::BodyRef::kName) return "body '" + ref.name() + "'";
+  if (ref.ref_case() == tumble::v1::BodyRef::kName) return "body '" + log_text(ref.name()) + "'";
   return "body " + std::to_string(ref.id());
 }
 

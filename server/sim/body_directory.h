@@ -3,6 +3,7 @@
 // through Simulation::resolve. Not thread-safe by itself.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -33,14 +34,18 @@ class BodyDirectory {
   // Resolves a reference by id or by name; kInvalidBodyId when unknown.
   physics::BodyId resolve(const tumble::v1::BodyRef& ref) const;
 
-  // "body 'crate'" or "body 7", for messages.
+  // The entries by ascending id, for a reader that pages through them.
+  const std::map<physics::BodyId, BodyEntry>& entries() const { return entries_; }
+
+  // "body 'crate'" or "body 7", for messages (the name escaped and bounded
+  // by log_text).
   static std::string describe(const tumble::v1::BodyRef& ref);
 
   // The name of `id`, or "" for unnamed or unknown bodies.
   const std::string& name_of(physics::BodyId id) const;
 
  private:
-  std::unordered_map<physics::BodyId, BodyEntry> entries_;
+  std::map<physics::BodyId, BodyEntry> entries_;  // ordered, so that ListBodies pages by id
   std::unordered_map<std::string, physics::BodyId> ids_by_name_;
 };
 

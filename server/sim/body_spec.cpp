@@ -5,6 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "sim/string_limits.h"
 #include "tumble/physics/convex_hull.h"
 #include "tumble/physics/mass_properties.h"
 #include "tumble/physics/shape.h"
@@ -32,7 +33,8 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
   *desc = physics::BodyDesc{};
   const tumble::v1::Shape& shape = spec.shape();
   const std::string shape_path = where + ".shape";
-  Status status;
+  Status status = check_body_name(spec.name(), where + ".name");
+  if (!status.ok()) return status;
 
   if (shape.kind_case() == tumble::v1::Shape::KIND_NOT_SET) {
     return Status::error(shape_path + ": expected one of box, sphere, capsule, points, plane, convex");

@@ -1,6 +1,6 @@
 // Turns a tumble.v1.BodySpec (from a scene file or a client) into the
-// physics engine's BodyDesc, checking that it describes a real body:
-// positive mass and sizes, a unit orientation, finite numbers, friction >= 0
+// physics engine's BodyDesc, checking that it describes a real body: a name
+// within the limits of sim/string_limits.h, positive mass and sizes, a unit orientation, finite numbers, friction >= 0
 // and restitution in [0, 1]. Planes must be static and point masses dynamic;
 // static and kinematic bodies need no mass. A convex shape is re-centred on
 // its centre of mass.

@@ -3,13 +3,17 @@
 // the clock, and answers with the tick at which the change first shows.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <google/protobuf/io/coded_stream.h>
+
 #include "sim/body_spec.h"
 #include "sim/log.h"
+#include "sim/log_text.h"
 #include "sim/reply.h"
 #include "sim/simulation.h"
 #include "sim/world_state.h"
@@ -145,30 +149,48 @@ ServerMessage Simulation::apply_impulse(const ClientMessage& message) {
 }
 
 ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
+  const auto& request = message.list_bodies();
   ServerMessage reply;
   auto* list = reply.mutable_body_list();
   list->set_request_id(message.request_id());
   list->set_tick(next_tick_);
-  for (std::size_t i = 0; i < world_.body_count(); ++i) {
-    const physics::BodyId id = world_.body_id_at(i);
-    auto* info = list->add_bodies();
-    info->set_id(id);
-    if (const BodyEntry* entry = directory_.find(id)) {
-      info->set_name(entry->name);
-      *info->mutable_shape() = entry->shape;
+  list->set_total_bodies(static_cast<std::uint32_t>(world_.body_count()));
+  const std::uint32_t most =
+      request.max_bodies() == 0 ? std::numeric_limits<std::uint32_t>::max() : request.max_bodies();
+  std::size_t page_bytes = 0;
+  const auto& entries = directory_.entries();
+  for (auto it = entries.lower_bound(request.start_id()); it != entries.end(); ++it) {
+    const physics::BodyId id = it->first;
+    if (!world_.contains(id)) continue;
+    if (static_cast<std::uint32_t>(list->bodies_size()) == most) {
+      list->set_next_start_id(id);
+      break;
     }
-    info->set_mass(world_.mass(id));
-    set_vec3(world_.position(id), info->mutable_position());
+    tumble::v1::BodyInfo info;
+    info.set_id(id);
+    info.set_name(it->second.name);
+    *info.mutable_shape() = it->second.shape;
+    info.set_mass(world_.mass(id));
+    set_vec3(world_.position(id), info.mutable_position());
     const physics::Quat& q = world_.orientation(id);
-    auto* o = info->mutable_orientation();
+    auto* o = info.mutable_orientation();
     o->set_w(q.w());
     o->set_x(q.x());
     o->set_y(q.y());
     o->set_z(q.z());
-    set_vec3(world_.linear_velocity(id), info->mutable_linear_velocity());
-    set_vec3(world_.angular_velocity(id), info->mutable_angular_velocity());
-    info->set_motion(wire_motion(world_.motion_type(id)));
-    info->set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
+    set_vec3(world_.linear_velocity(id), info.mutable_linear_velocity());
+    set_vec3(world_.angular_velocity(id), info.mutable_angular_velocity());
+    info.set_motion(wire_motion(world_.motion_type(id)));
+    info.set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
+    // The body as the page encodes it: tag, length and message.
+    const std::size_t size = info.ByteSizeLong();
+    const std::size_t encoded = 1 + google::protobuf::io::CodedOutputStream::VarintSize64(size) + size;
+    if (list->bodies_size() > 0 && page_bytes + encoded > config_.list_page_bytes) {
+      list->set_next_start_id(id);
+      break;
+    }
+    page_bytes += encoded;
+    *list->add_bodies() = std::move(info);
   }
   return reply;
 }
@@ -191,7 +213,7 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   }
   if (!spec.name().empty() && directory_.id_of(spec.name()) != physics::kInvalidBodyId) {
     return error_reply(message, tumble::v1::INVALID_ARGUMENT,
-                       "body.name: '" + spec.name() + "' is used by another body");
+                       "body.name: '" + log_text(spec.name()) + "' is used by another body");
   }
   physics::BodyDesc converted;
   const physics::BodyDesc* desc = command.body_desc.get();

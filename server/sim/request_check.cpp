@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "sim/body_spec.h"
+#include "sim/string_limits.h"
 
 namespace tumble::sim {
 namespace {
@@ -33,10 +34,16 @@ std::optional<RequestError> check_quat(const tumble::v1::Quat& q, const char* fi
                  std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + "]");
 }
 
+std::optional<RequestError> invalid(const Status& status) {
+  if (status.ok()) return std::nullopt;
+  return invalid(status.message());
+}
+
 std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool present) {
   if (!present || ref.ref_case() == tumble::v1::BodyRef::REF_NOT_SET) return invalid("body is required");
-  if (ref.ref_case() == tumble::v1::BodyRef::kName && ref.name().empty()) {
-    return invalid("body name must not be empty");
+  if (ref.ref_case() == tumble::v1::BodyRef::kName) {
+    if (ref.name().empty()) return invalid("body name must not be empty");
+    return invalid(check_text_length(ref.name(), "body.name", kMaxBodyNameBytes));
   }
   return std::nullopt;
 }
@@ -51,6 +58,13 @@ std::optional<RequestError> check_duration(bool has_seconds, double seconds, boo
 }
 
 }  // namespace
+
+std::optional<RequestError> check_hello(const tumble::v1::Hello& hello) {
+  if (Status status = check_text_length(hello.token(), "Hello.token", kMaxTokenBytes); !status.ok()) {
+    return RequestError{tumble::v1::UNAUTHENTICATED, status.message()};
+  }
+  return invalid(check_text_length(hello.client_name(), "Hello.client_name", kMaxClientNameBytes));
+}
 
 std::optional<RequestError> check_request(const ClientMessage& message) {
   std::optional<RequestError> error;
@@ -119,7 +133,7 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
     case ClientMessage::kSpawnBody:
       // The spec itself is judged by body_desc_from_spec when the sim takes the request.
       if (!message.spawn_body().has_body()) return invalid("body is required");
-      return std::nullopt;
+      return invalid(check_body_name(message.spawn_body().body().name(), "body.name"));
     case ClientMessage::kRemoveBody:
       return check_body_ref(message.remove_body().body(), message.remove_body().has_body());
     case ClientMessage::kSetBodyState: {

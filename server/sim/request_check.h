@@ -25,6 +25,10 @@ struct RequestError {
   std::string message;
 };
 
+// nullopt when a Hello's strings are within the limits of string_limits.h;
+// else UNAUTHENTICATED for a token, INVALID_ARGUMENT for a client_name.
+std::optional<RequestError> check_hello(const tumble::v1::Hello& hello);
+
 // nullopt when `message` may be applied.
 std::optional<RequestError> check_request(const tumble::v1::ClientMessage& message);
 

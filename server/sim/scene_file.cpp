@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/log_text.h"
+
 namespace tumble::sim {
 namespace {
 
@@ -25,7 +27,7 @@ void require_object(const json& value, const std::string& path, std::initializer
   for (const auto& item : value.items()) {
     bool known = false;
     for (std::string_view field : known_fields) known = known || item.key() == field;
-    if (!known) fail(path, "unknown field '" + item.key() + "'");
+    if (!known) fail(path, "unknown field '" + log_text(item.key()) + "'");
   }
 }
 

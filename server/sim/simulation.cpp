@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/body_spec.h"
+#include "sim/log_text.h"
 #include "sim/reply.h"
 #include "sim/request_check.h"
 #include "sim/world_state.h"
@@ -50,7 +51,7 @@ Status Simulation::create_from_state(const tumble::v1::WorldState& state, const 
   }
   SimConfig resumed = config;
   resumed.tick_rate_hz = state.tick_rate_hz();
-  std::unique_ptr<Simulation> sim(new Simulation(state.scene(), resumed));
+  std::unique_ptr<Simulation> sim(new Simulation(restorable_scene(state.scene()), resumed));
   BodyDirectory directory;
   if (Status status = restore_world(state, &sim->world_, &directory, &sim->loads_); !status.ok()) return status;
   sim->set_directory(std::move(directory));
@@ -102,7 +103,7 @@ Status Simulation::build_world(physics::World* world, BodyDirectory* directory) 
     physics::BodyDesc desc;
     if (Status status = body_desc_from_spec(spec, where, &desc); !status.ok()) return status;
     if (!spec.name().empty() && directory->id_of(spec.name()) != physics::kInvalidBodyId) {
-      return Status::error(where + ".name: '" + spec.name() + "' is used by another body");
+      return Status::error(where + ".name: '" + log_text(spec.name()) + "' is used by another body");
     }
     const physics::BodyId id = world->add_body(desc);
     directory->add(id, BodyEntry{spec.name(), spec.shape(), world->mass(id)});

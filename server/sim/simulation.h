@@ -61,6 +61,9 @@ struct SimConfig {
   double tick_rate_hz = 240;             // kMinTickRateHz to kMaxTickRateHz (request_check.h)
   std::uint32_t max_catch_up_ticks = 8;  // late ticks run back to back before the rest are skipped
   std::uint32_t max_bodies = 100000;     // SpawnBody beyond it is RESOURCE_EXHAUSTED
+  // The most bytes of BodyInfo one BodyList page holds (at least one body
+  // always goes in): a reply a client can take in one read of its limit.
+  std::size_t list_page_bytes = std::size_t{1} << 20;
   // Threads that solve the world's contact islands, the sim thread included
   // (physics::World::set_thread_count); the helpers start with the sim thread.
   int physics_threads = 1;

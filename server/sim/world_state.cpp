@@ -4,6 +4,9 @@
 #include <string>
 
 #include "sim/body_spec.h"
+#include "sim/log.h"
+#include "sim/log_text.h"
+#include "sim/string_limits.h"
 
 namespace tumble::sim {
 namespace {
@@ -17,6 +20,20 @@ void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
 physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 bool finite(const tumble::v1::Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+// The spec of `saved` as this server accepts it: the saved one, or, when its
+// name breaks a limit of string_limits.h (a file written before there were
+// any), a copy in `renamed` without the name, with a warning in the log. The
+// body itself is kept: refusing the file would lose the whole world.
+const tumble::v1::BodySpec& allowed_name(const tumble::v1::SavedBody& saved, const std::string& where,
+                                         tumble::v1::BodySpec* renamed) {
+  const Status refused = check_body_name(saved.spec().name(), where + ".spec.name");
+  if (refused.ok()) return saved.spec();
+  sim_log().warn("{}; body {} is loaded without a name", log_text(refused.message(), kLogMessageBytes), saved.id());
+  *renamed = saved.spec();
+  renamed->clear_name();
+  return *renamed;
+}
 
 }  // namespace
 
@@ -84,6 +101,7 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
                          std::to_string(kMaxBodyIds) + " ids a world may hand out");
   }
 
+  tumble::v1::BodySpec renamed;  // the spec of a body whose saved name is refused, without it
   for (int i = 0; i < state.bodies_size(); ++i) {
     const tumble::v1::SavedBody& saved = state.bodies(i);
     const std::string where = "bodies[" + std::to_string(i) + "]";
@@ -93,9 +111,10 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
     if (world->contains(saved.id())) {
       return Status::error(where + ".id: " + std::to_string(saved.id()) + " is used by another body");
     }
-    const tumble::v1::BodySpec& spec = saved.spec();
+    const tumble::v1::BodySpec& spec =
+        saved.spec().name().empty() ? saved.spec() : allowed_name(saved, where, &renamed);
     if (!spec.name().empty() && directory->id_of(spec.name()) != physics::kInvalidBodyId) {
-      return Status::error(where + ".spec.name: '" + spec.name() + "' is used by another body");
+      return Status::error(where + ".spec.name: '" + log_text(spec.name()) + "' is used by another body");
     }
     // The saved pose must be exact: no normalisation beyond what the spec
     // check does, and then the saved quaternion itself is put back.
@@ -129,6 +148,18 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
                         saved.ticks_left()});
   }
   return {};
+}
+
+tumble::v1::Scene restorable_scene(const tumble::v1::Scene& scene) {
+  tumble::v1::Scene allowed = scene;
+  for (int i = 0; i < allowed.bodies_size(); ++i) {
+    tumble::v1::BodySpec& body = *allowed.mutable_bodies(i);
+    const Status refused = check_body_name(body.name(), "scene.bodies[" + std::to_string(i) + "].name");
+    if (refused.ok()) continue;
+    sim_log().warn("{}; Reset will bring the body back without a name", log_text(refused.message(), kLogMessageBytes));
+    body.clear_name();
+  }
+  return allowed;
 }
 
 }  // namespace tumble::sim

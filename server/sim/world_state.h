@@ -41,8 +41,15 @@ tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirect
 // Rebuilds world, directory and loads (which must be empty) from a saved
 // state, checking it as strictly as a scene file: every body spec, finite
 // momenta, unique ids and names below next_body_id, loads on known bodies.
-// On error the outputs are left partly filled and must be discarded.
+// The one exception is a name string_limits.h refuses (too long, or digits
+// only), which a file written by an older server may hold: the body is
+// restored without it and a warning logged. On error the outputs are left
+// partly filled and must be discarded.
 Status restore_world(const tumble::v1::WorldState& state, physics::World* world, BodyDirectory* directory,
                      BodyLoads* loads);
+
+// The scene a saved state keeps for Reset, with the names string_limits.h
+// refuses cleared (and a warning logged for each), as restore_world does.
+tumble::v1::Scene restorable_scene(const tumble::v1::Scene& scene);
 
 }  // namespace tumble::sim

@@ -198,6 +198,31 @@ TEST(WorldState, InconsistentStatesAreRefused) {
   EXPECT_EQ(error_of(bad), "loads[0].body: no body 99");
 }
 
+TEST(WorldState, NamesThisServerRefusesAreClearedNotTheWorld) {
+  // A file written before names had limits: the bodies stay, without those names.
+  Built original;
+  build(kPile, &original);
+  tumble::v1::WorldState saved;
+  capture_world(original.world, original.directory, original.loads, &saved);
+  saved.mutable_bodies(1)->mutable_spec()->set_name("123");
+  saved.mutable_bodies(2)->mutable_spec()->set_name(std::string(1000000, 'b'));
+  Built restored;
+  ASSERT_TRUE(restore_world(saved, &restored.world, &restored.directory, &restored.loads).ok());
+  expect_same_world(original.world, restored.world);
+  EXPECT_EQ(restored.directory.name_of(saved.bodies(1).id()), "");
+  EXPECT_EQ(restored.directory.name_of(saved.bodies(2).id()), "");
+  EXPECT_EQ(restored.directory.name_of(saved.bodies(3).id()), "ball");
+
+  // The scene kept for Reset likewise.
+  tumble::v1::Scene scene;
+  ASSERT_TRUE(parse_scene_json(kPile, &scene).ok());
+  scene.mutable_bodies(1)->set_name("0");
+  const tumble::v1::Scene allowed = restorable_scene(scene);
+  ASSERT_EQ(allowed.bodies_size(), scene.bodies_size());
+  EXPECT_EQ(allowed.bodies(1).name(), "");
+  EXPECT_EQ(allowed.bodies(2).name(), "b");
+}
+
 TEST(WorldState, AFailedWriteKeepsTheOldFile) {
   TempDir dir;
   tumble::v1::WorldState state;

@@ -1,5 +1,6 @@
 #include "test_server.h"
 
+#include <algorithm>
 #include <future>
 #include <stdexcept>
 
@@ -27,6 +28,8 @@ TestServer::TestServer(const std::string& scene_json, double tick_rate_hz, net::
   }
   sim::SimConfig sim_config;
   sim_config.tick_rate_hz = tick_rate_hz;
+  // As tumbled sizes ListBodies pages (server/startup.cpp).
+  sim_config.list_page_bytes = std::min(sim_config.list_page_bytes, config.limits.max_pending_bytes / 2);
   if (auto status = sim::Simulation::create(scene, sim_config, &sim_); !status.ok()) {
     throw std::runtime_error("test scene: " + status.message());
   }

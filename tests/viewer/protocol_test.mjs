@@ -163,6 +163,31 @@ test("a session decodes the handshake, the body list, frames and replies of the 
   }
 });
 
+test("the body list of a world larger than one page comes whole, page after page", async () => {
+  // Pages of at most 2048 bytes: half of what a client may leave unread.
+  const server = await startTumbled(options.tumbled, ["--scene", options.scene, "--max-pending-bytes", "4096"]);
+  try {
+    const { session, socket } = await connect(server.port);
+    await session.hello("");
+    for (let i = 0; i < 60; ++i) {
+      await session.request("spawnBody", {
+        body: { name: `rock-${i}`, shape: { sphere: { radius: 0.25 } }, mass: 1, position: { x: i, y: 20, z: 0 } },
+      });
+    }
+    const first = await session.request("listBodies");
+    assert.equal(first.totalBodies, 65);
+    assert.ok(first.bodies.length < 65, `one page held all ${first.bodies.length} bodies`);
+    assert.equal(first.nextStartId, first.bodies.at(-1).id + 1);
+
+    const bodies = await session.listAllBodies();
+    assert.deepEqual(bodies.map((body) => body.id), [...Array(65).keys()]);
+    assert.equal(bodies[64].name, "rock-59");
+    socket.destroy();
+  } finally {
+    await server.stop();
+  }
+});
+
 test("roles come from the token, and an observer may not push", async () => {
   const server = await startTumbled(options.tumbled, ["--scene", options.scene, "--token", "pilot", "--observer-token", "guest"]);
   try {

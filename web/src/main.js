@@ -112,9 +112,9 @@ class Viewer {
     this.listing = (async () => {
       do {
         this.listAgain = false;
-        const list = await session.request("listBodies");
+        const bodies = await session.listAllBodies();
         if (session !== this.session) return;
-        this.view.setBodies(list.bodies);
+        this.view.setBodies(bodies);
       } while (this.listAgain);
     })();
     try {

@@ -56,6 +56,24 @@ export class Session {
     });
   }
 
+  // Every body, page after page (ListBodies from each BodyList's nextStartId
+  // until it is 0), and resolves with their BodyInfo in ascending id order;
+  // rejects as request() does.
+  async listAllBodies() {
+    const bodies = [];
+    let startId = 0;
+    for (;;) {
+      const page = await this.request("listBodies", { startId });
+      for (const body of page.bodies) bodies.push(body);
+      if (!page.nextStartId) return bodies;
+      // Ids only grow from page to page; anything else would never end.
+      if (page.nextStartId <= startId) {
+        throw new ProtocolError(`the server's BodyList pages do not advance: nextStartId ${page.nextStartId}`);
+      }
+      startId = page.nextStartId;
+    }
+  }
+
   write(fields) {
     const { ClientMessage } = this.types;
     this.send(encodeFrame(ClientMessage.encode(ClientMessage.fromObject(fields)).finish()));

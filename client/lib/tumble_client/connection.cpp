@@ -391,8 +391,30 @@ Result<tumble::v1::Ack> Connection::apply_impulse(const tumble::v1::ApplyImpulse
 }
 
 Result<tumble::v1::BodyList> Connection::list_bodies(Timeout timeout) {
+  auto all = list_bodies_page(0, 0, timeout);
+  if (!all) return all;
+  while (all->next_start_id() != 0) {
+    auto page = list_bodies_page(all->next_start_id(), 0, timeout);
+    if (!page) return page;
+    // Ids only grow from page to page; a server that answers otherwise would loop forever.
+    if (page->next_start_id() != 0 && page->next_start_id() <= all->next_start_id()) {
+      return state_->fail(Failure{FailureKind::protocol, "the server's BodyList pages do not advance: next_start_id " +
+                                                             std::to_string(page->next_start_id()) + " after " +
+                                                             std::to_string(all->next_start_id())});
+    }
+    for (auto& body : *page->mutable_bodies()) *all->add_bodies() = std::move(body);
+    all->set_tick(page->tick());
+    all->set_total_bodies(page->total_bodies());
+    all->set_next_start_id(page->next_start_id());
+  }
+  return all;
+}
+
+Result<tumble::v1::BodyList> Connection::list_bodies_page(std::uint32_t start_id, std::uint32_t max_bodies,
+                                                          Timeout timeout) {
   ClientMessage message;
-  message.mutable_list_bodies();
+  message.mutable_list_bodies()->set_start_id(start_id);
+  message.mutable_list_bodies()->set_max_bodies(max_bodies);
   return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_body_list);
 }
 

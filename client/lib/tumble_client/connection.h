@@ -31,8 +31,9 @@ inline constexpr Timeout kWaitForever = Timeout::max();
 // The timeout of a request unless the caller chooses another.
 inline constexpr Timeout kDefaultRequestTimeout = std::chrono::seconds(10);
 
-// The largest frame accepted from the server, in bytes (64 MiB): the
-// BodyList of a large world is big. A larger frame breaks the connection.
+// The largest frame accepted from the server, in bytes (64 MiB): a
+// BodyList page of a server with a large --max-pending-bytes is big (1 MiB
+// by default). A larger frame breaks the connection.
 inline constexpr std::size_t kMaxInboundFrameBytes = std::size_t{64} << 20;
 
 class Connection {
@@ -76,7 +77,14 @@ class Connection {
   Result<tumble::v1::Ack> apply_force(const tumble::v1::ApplyForce& force, Timeout timeout);
   Result<tumble::v1::Ack> apply_torque(const tumble::v1::ApplyTorque& torque, Timeout timeout);
   Result<tumble::v1::Ack> apply_impulse(const tumble::v1::ApplyImpulse& impulse, Timeout timeout);
+  // Every body, page after page (ListBodies from each page's next_start_id
+  // until it is 0), as one BodyList: bodies in ascending id order, `tick`
+  // and `total_bodies` those of the last page, next_start_id 0. `timeout`
+  // bounds each page.
   Result<tumble::v1::BodyList> list_bodies(Timeout timeout);
+  // One page: the bodies from `start_id` on, at most `max_bodies` (0: as
+  // many as the server's page holds).
+  Result<tumble::v1::BodyList> list_bodies_page(std::uint32_t start_id, std::uint32_t max_bodies, Timeout timeout);
   Result<tumble::v1::Subscribed> subscribe(const tumble::v1::Subscribe& subscribe, Timeout timeout);
   Result<tumble::v1::Ack> unsubscribe(std::uint32_t subscription_id, Timeout timeout);
   // A DELTA subscription's next frame is a key frame.
