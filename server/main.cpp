@@ -47,6 +47,9 @@ tumble::net::ServerConfig server_config(const ServerOptions& options) {
   config.limits.command_burst = options.max_commands_per_second;
   config.limits.handshake_timeout = from_seconds(options.handshake_timeout_seconds);
   config.limits.max_undelivered = from_seconds(options.max_undelivered_seconds);
+  config.limits.frame_timeout = from_seconds(options.frame_timeout_seconds);
+  config.limits.errors_per_second = options.max_errors_per_second;
+  config.limits.error_burst = options.max_errors_per_second;
   config.max_connections = options.max_connections;
   config.access = options.tokens;
   config.server_version = tumble::kVersion;
@@ -55,6 +58,9 @@ tumble::net::ServerConfig server_config(const ServerOptions& options) {
     config.http_host = options.http->host;
     config.http_port = options.http->port;
   }
+  config.http_limits.max_connections = options.max_http_connections;
+  config.http_limits.header_timeout = from_seconds(options.http_header_timeout_seconds);
+  config.http_limits.allowed_hosts = options.http_allowed_hosts;
   return config;
 }
 

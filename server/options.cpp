@@ -68,6 +68,29 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
   app.add_option("--http-port-file", options.http_port_file,
                  "Write the bound HTTP port to this file once listening (before --port-file is written)")
       ->needs(http_option);
+  app.add_option("--max-http-connections", options.max_http_connections,
+                 "HTTP connections served at once, apart from --max-connections; more are closed")
+      ->capture_default_str()
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1000000}))
+      ->needs(http_option);
+  app.add_option("--http-header-timeout", options.http_header_timeout_seconds,
+                 "Seconds a request's header may take to arrive whole (else 408), and an idle connection may stay")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0))
+      ->needs(http_option);
+  app.add_option("--http-allowed-hosts", options.http_allowed_hosts,
+                 "Host header values served, comma-separated: NAME:PORT, NAME (any port) or * (any); others get "
+                 "421. Default: the --http address, localhost, 127.0.0.1 and [::1], with its port")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& entry) {
+            // A URL is the likely mistake: "http://viewer.example:8080".
+            return entry.find_first_of("/ \t") == std::string::npos
+                       ? std::string()
+                       : "'" + entry + "' is not a host name: give NAME, NAME:PORT or *";
+          },
+          "HOST"))
+      ->needs(http_option);
 
   // Shared-server safety: limits on each client and access tokens.
   app.add_option("--max-connections", options.max_connections, "Clients served at once; more are refused")
@@ -77,7 +100,17 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
                  "Requests per second a client may send (in bursts of as many); the excess gets RATE_LIMITED")
       ->capture_default_str()
       ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{1000000000}));
+  app.add_option("--max-errors-per-second", options.max_errors_per_second,
+                 "Errors per second (in bursts of as many) a client's requests may draw; beyond, one "
+                 "RESOURCE_EXHAUSTED and the connection is closed")
+      ->capture_default_str()
+      ->check(CLI::Range(std::uint32_t{1}, std::uint32_t{1000000000}));
   app.add_option("--handshake-timeout", options.handshake_timeout_seconds, "Seconds a new connection has to send Hello")
+      ->capture_default_str()
+      ->check(CLI::Range(0.001, 86400.0));
+  app.add_option("--frame-timeout", options.frame_timeout_seconds,
+                 "Seconds a frame may take to arrive whole once its first byte has (else MALFORMED_FRAME and a "
+                 "close); a client idle between frames is not affected")
       ->capture_default_str()
       ->check(CLI::Range(0.001, 86400.0));
   app.add_option("--max-undelivered-seconds", options.max_undelivered_seconds,

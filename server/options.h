@@ -1,9 +1,11 @@
 // tumbled's command line, parsed into plain values.
 //
-//   tumbled [--listen HOST:PORT] [--port-file PATH] [--http HOST:PORT [--http-port-file PATH]]
+//   tumbled [--listen HOST:PORT] [--port-file PATH] [--http HOST:PORT [--http-port-file PATH]
+//           [--max-http-connections N] [--http-header-timeout S] [--http-allowed-hosts HOST,...]]
 //           [--scene PATH] [--tick-rate HZ] [--max-bodies N] [--physics-threads N]
 //           [--max-frame-bytes N] [--max-pending-bytes N] [--max-connections N] [--max-commands-per-second N]
-//           [--handshake-timeout S] [--max-undelivered-seconds S] [--token TOKEN] [--observer-token TOKEN]
+//           [--max-errors-per-second N] [--handshake-timeout S] [--frame-timeout S]
+//           [--max-undelivered-seconds S] [--token TOKEN] [--observer-token TOKEN]
 //           [--state PATH [--checkpoint-interval S]] [--record PATH | --replay PATH]
 //           [--realtime-priority N] [--keep-cpus-awake] [--log-level LEVEL]
 //
@@ -16,8 +18,10 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "net/access.h"
+#include "net/http_connection.h"
 #include "net/session.h"
 #include "sim/simulation.h"
 #include "tumble/endpoint.h"
@@ -39,6 +43,10 @@ struct ServerOptions {
   std::string port_file;                 // --port-file: the bound port is written here; empty: none
   std::optional<Endpoint> http;          // --http: the viewer's page and WebSocket clients; none: off
   std::string http_port_file;            // --http-port-file: the bound HTTP port; only with --http
+  // The HTTP endpoint's own limits; each only with --http.
+  std::size_t max_http_connections = net::HttpLimits{}.max_connections;  // 1 to 10^6
+  double http_header_timeout_seconds = 10;                               // --http-header-timeout, s: 0.001 to 86400
+  std::vector<std::string> http_allowed_hosts;  // --http-allowed-hosts; empty: the defaults (net/allowed_hosts.h)
 
   // The world.
   std::string scene_path;                                  // --scene: a JSON scene; empty: an empty world
@@ -51,7 +59,9 @@ struct ServerOptions {
   std::size_t max_pending_bytes = net::SessionLimits{}.max_pending_bytes;  // bytes: 4096 to 2^34
   std::size_t max_connections = 1024;                                      // clients at once: 1 to 10^6
   std::uint32_t max_commands_per_second = 1000;  // requests per second, and per burst: 1 to 10^9
+  std::uint32_t max_errors_per_second = 100;     // Errors per second, and per burst, before a close: 1 to 10^9
   double handshake_timeout_seconds = 10;         // --handshake-timeout, s: 0.001 to 86400
+  double frame_timeout_seconds = 10;             // --frame-timeout, s: 0.001 to 86400
   double max_undelivered_seconds = 10;           // s: 0.001 to 86400
   // --token (else $TUMBLE_TOKEN) and --observer-token (else
   // $TUMBLE_OBSERVER_TOKEN); a controller token never equals the observer's.

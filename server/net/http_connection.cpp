@@ -7,6 +7,8 @@
 #include <boost/beast/http/write.hpp>
 #include <boost/beast/websocket/rfc6455.hpp>
 
+#include <spdlog/fmt/fmt.h>
+
 #include "net/log.h"
 #include "net/static_assets.h"
 #include "net/tcp_transport.h"
@@ -57,6 +59,16 @@ bool same_origin(const http::request_header<>& request) {
 
 std::string_view path_of(std::string_view target) { return target.substr(0, target.find('?')); }
 
+// A header's value as a response and the log may quote it: printable ASCII
+// only, at most 64 characters.
+std::string quotable(std::string_view value) {
+  constexpr std::size_t kMaxQuoted = 64;
+  std::string quoted;
+  for (const char c : value.substr(0, kMaxQuoted)) quoted += c >= 0x20 && c < 0x7F ? c : '?';
+  if (value.size() > kMaxQuoted) quoted += "...";
+  return quoted;
+}
+
 // An error of the HTTP parser: the bytes were not an HTTP request.
 bool is_parse_error(const boost::system::error_code& error) {
   return error.category() == http::make_error_code(http::error::bad_method).category();
@@ -64,10 +76,15 @@ bool is_parse_error(const boost::system::error_code& error) {
 
 }  // namespace
 
-HttpConnection::HttpConnection(asio::ip::tcp::socket socket, std::uint64_t id, UpgradeFn on_websocket,
+HttpConnection::HttpConnection(asio::ip::tcp::socket socket, std::uint64_t id,
+                               std::chrono::steady_clock::duration header_timeout,
+                               std::shared_ptr<const AllowedHosts> allowed_hosts, UpgradeFn on_websocket,
                                ClosedFn on_closed)
     : stream_(std::move(socket)),
       id_(id),
+      header_timeout_(header_timeout),
+      allowed_hosts_(std::move(allowed_hosts)),
+      header_timer_(stream_.get_executor()),
       on_websocket_(std::move(on_websocket)),
       on_closed_(std::move(on_closed)),
       peer_(peer_of(stream_.socket())) {
@@ -86,23 +103,39 @@ void HttpConnection::read_request() {
   if (closed_) return;
   parser_.emplace();
   parser_->header_limit(static_cast<std::uint32_t>(kMaxHeaderBytes));
-  stream_.expires_after(kReadTimeout);
+  // The deadline is a timer of its own, not the stream's: the stream's
+  // closes the socket, and a request that began late is answered with 408.
+  stream_.expires_never();
+  header_timed_out_ = false;
+  header_timer_.expires_after(header_timeout_);
+  header_timer_.async_wait(
+      [self = shared_from_this()](const boost::system::error_code& error) { self->on_header_timeout(error); });
   // The header only: a body is refused rather than read.
   http::async_read_header(
       stream_, buffer_, *parser_,
       [self = shared_from_this()](const boost::system::error_code& error, std::size_t) { self->on_header(error); });
 }
 
+void HttpConnection::on_header_timeout(const boost::system::error_code& error) {
+  if (error || closed_) return;  // cancelled: the header came, or the connection is gone
+  header_timed_out_ = true;
+  stream_.cancel();  // the read ends with operation_aborted, in on_header
+}
+
 void HttpConnection::on_header(const boost::system::error_code& error) {
   if (closed_) return;
-  if (error == http::error::end_of_stream) {
-    finish("client closed the connection");
+  header_timer_.cancel();
+  if (header_timed_out_) {
+    const std::string limit = fmt::format("{:g} s", std::chrono::duration<double>(header_timeout_).count());
+    if (buffer_.size() == 0 && !parser_->got_some()) {
+      finish("idle for " + limit);  // no request begun: nothing to answer
+    } else {
+      refuse(http::status::request_timeout, "the request's header did not arrive whole within " + limit, false);
+    }
     return;
   }
-  if (error == beast::error::timeout) {
-    // The stream closed the socket at its deadline: there is no answering.
-    finish(buffer_.size() == 0 ? "idle for " + std::to_string(kReadTimeout.count()) + " s"
-                               : "no whole request within " + std::to_string(kReadTimeout.count()) + " s");
+  if (error == http::error::end_of_stream) {
+    finish("client closed the connection");
     return;
   }
   if (error == http::error::header_limit) {
@@ -122,12 +155,28 @@ void HttpConnection::on_header(const boost::system::error_code& error) {
   handle(parser_->get());
 }
 
+bool HttpConnection::check_host(const Request& request, bool keep_alive) {
+  const auto host = request.find(http::field::host);
+  if (host == request.end()) {
+    if (request.version() < 11) return true;  // HTTP/1.0 may leave it out; no browser does
+    refuse(http::status::bad_request, "an HTTP/1.1 request must have a Host header (RFC 9112 section 3.2)", keep_alive);
+    return false;
+  }
+  if (allowed_hosts_->allows(host->value())) return true;
+  refuse(http::status::misdirected_request,
+         "this server does not answer to the host name '" + quotable(host->value()) +
+             "' (see tumbled's --http-allowed-hosts)",
+         false);
+  return false;
+}
+
 void HttpConnection::handle(const Request& request) {
   request_line_ = std::string(request.method_string()) + " " + std::string(request.target());
   // A body is never read: its bytes would be taken for the next request.
   const bool no_body = parser_->is_done();
   const bool keep_alive = request.keep_alive() && no_body;
   const bool head = request.method() == http::verb::head;
+  if (!check_host(request, keep_alive)) return;
   if (request.method() != http::verb::get && !head) {
     refuse(http::status::method_not_allowed, "only GET and HEAD are served here", keep_alive);
     return;
@@ -269,6 +318,7 @@ void HttpConnection::finish(const std::string& reason) {
 void HttpConnection::close() {
   if (closed_) return;
   closed_ = true;
+  header_timer_.cancel();
   if (upgrading_) {
     upgrading_->close();
   } else {

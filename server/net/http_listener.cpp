@@ -10,14 +10,15 @@ namespace tumble::net {
 namespace asio = boost::asio;
 using asio::ip::tcp;
 
-HttpListener::HttpListener(asio::io_context& io, std::string host, std::uint16_t port, std::size_t max_connections,
-                           HttpConnection::UpgradeFn on_websocket)
+HttpListener::HttpListener(asio::io_context& io, std::string host, std::uint16_t port, HttpLimits limits,
+                           NetCounters& counters, HttpConnection::UpgradeFn on_websocket)
     : host_(std::move(host)),
       requested_port_(port),
-      max_connections_(max_connections),
+      limits_(std::move(limits)),
       on_websocket_(std::move(on_websocket)),
       acceptor_(io),
-      accept_retry_(io) {}
+      accept_retry_(io),
+      refusals_(io, "HTTP connections", limits_.max_connections, counters) {}
 
 HttpListener::~HttpListener() { stop(); }
 
@@ -26,7 +27,11 @@ sim::Status HttpListener::start() {
     return sim::Status::error("the HTTP endpoint: " + status.message());
   }
   port_ = acceptor_.local_endpoint().port();
-  net_log().info("serving HTTP and WebSocket clients on {}:{}", host_, port_);
+  allowed_hosts_ = std::make_shared<const AllowedHosts>(
+      limits_.allowed_hosts.empty() ? AllowedHosts::defaults(host_, port_) : AllowedHosts(limits_.allowed_hosts));
+  std::string names;
+  for (const std::string& entry : allowed_hosts_->entries()) names += (names.empty() ? "" : ", ") + entry;
+  net_log().info("serving HTTP and WebSocket clients on {}:{} as {}", host_, port_, names);
   accept_next();
   return {};
 }
@@ -35,6 +40,7 @@ void HttpListener::stop() {
   boost::system::error_code ignored;
   acceptor_.close(ignored);
   accept_retry_.cancel();
+  refusals_.cancel();
   // close() erases from connections_ through the closed callback: iterate a copy.
   const auto connections = connections_;
   for (const auto& [id, connection] : connections) connection->close();
@@ -59,19 +65,16 @@ void HttpListener::accept_next() {
 }
 
 void HttpListener::admit(tcp::socket socket) {
-  if (connections_.size() >= max_connections_) {
-    if (!warned_full_) {
-      net_log().warn("over {} HTTP connections at once; closing new ones until some end", max_connections_);
-      warned_full_ = true;
-    }
+  if (connections_.size() >= limits_.max_connections) {
+    refusals_.note(false);
     boost::system::error_code ignored;
     socket.close(ignored);
     return;
   }
-  warned_full_ = false;
   const std::uint64_t id = next_connection_id_++;
-  auto connection = std::make_shared<HttpConnection>(std::move(socket), id, on_websocket_,
-                                                     [this](std::uint64_t closed) { connections_.erase(closed); });
+  auto connection =
+      std::make_shared<HttpConnection>(std::move(socket), id, limits_.header_timeout, allowed_hosts_, on_websocket_,
+                                       [this](std::uint64_t closed) { connections_.erase(closed); });
   connections_.emplace(id, connection);
   connection->start();
 }

@@ -4,8 +4,10 @@
 // on the same I/O thread, as the TCP listener; a WebSocket client, once its
 // handshake is done, is handed to the Server like a TCP one.
 //
-// At most max_connections HTTP connections are open at once (WebSocket
-// clients no longer count once handed over); one more is closed at once.
+// At most HttpLimits::max_connections HTTP connections are open at once
+// (WebSocket clients no longer count once handed over, but against the
+// server's own limit); one more is closed at once, counted in
+// connections_refused and in a log line a second (net/refusal_tally.h).
 // No TLS: it belongs on loopback or behind a proxy that terminates TLS.
 //
 // Thread: constructed, started and stopped on the I/O thread (or before it
@@ -19,17 +21,21 @@
 
 #include "net/asio.h"
 #include "net/http_connection.h"
+#include "net/net_counters.h"
+#include "net/refusal_tally.h"
 #include "sim/status.h"
 
 namespace tumble::net {
 
 class HttpListener {
  public:
-  HttpListener(boost::asio::io_context& io, std::string host, std::uint16_t port, std::size_t max_connections,
-               HttpConnection::UpgradeFn on_websocket);
+  // `counters` must outlive the listener.
+  HttpListener(boost::asio::io_context& io, std::string host, std::uint16_t port, HttpLimits limits,
+               NetCounters& counters, HttpConnection::UpgradeFn on_websocket);
   ~HttpListener();
 
   // Binds and listens; fails with a sentence when the address is unusable.
+  // Without allowed hosts in the limits, the defaults for the bound address apply.
   sim::Status start();
 
   // Stops accepting and closes every HTTP connection (and handshake under way).
@@ -46,13 +52,14 @@ class HttpListener {
 
   std::string host_;
   std::uint16_t requested_port_;
-  std::size_t max_connections_;
+  HttpLimits limits_;
   HttpConnection::UpgradeFn on_websocket_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::steady_timer accept_retry_;
+  RefusalTally refusals_;
+  std::shared_ptr<const AllowedHosts> allowed_hosts_;  // once started
   std::map<std::uint64_t, std::shared_ptr<HttpConnection>> connections_;
   std::uint64_t next_connection_id_ = 1;
-  bool warned_full_ = false;  // the "too many connections" warning was logged since the last lull
   std::uint16_t port_ = 0;
 };
 

@@ -27,6 +27,7 @@ Server::Server(asio::io_context& io, sim::Simulation& sim, ServerConfig config)
       accept_retry_(io),
       sweep_timer_(io),
       publisher_(io, sim, config_.fanout_slice),
+      refusals_(io, "connections", config_.max_connections, counters_),
       context_{io, sim, publisher_, config_.limits, config_.server_version, config_.access, counters_} {
   sim_.set_snapshot_listener(
       [this](std::shared_ptr<const sim::Snapshot> snapshot) { publisher_.offer(std::move(snapshot)); });
@@ -42,7 +43,7 @@ sim::Status Server::start() {
   net_log().info("listening on {}:{}", config_.host, port_);
   if (config_.serve_http) {
     http_ =
-        std::make_unique<HttpListener>(io_, config_.http_host, config_.http_port, config_.max_connections,
+        std::make_unique<HttpListener>(io_, config_.http_host, config_.http_port, config_.http_limits, counters_,
                                        [this](std::unique_ptr<Transport> transport) { admit(std::move(transport)); });
     if (auto status = http_->start(); !status.ok()) {
       http_.reset();
@@ -62,6 +63,7 @@ void Server::stop() {
   if (http_) http_->stop();
   accept_retry_.cancel();
   sweep_timer_.cancel();
+  refusals_.cancel();
   // close() erases from sessions_ through the closed callback: iterate a copy.
   for (auto* registry : {&sessions_, &refused_}) {
     const auto sessions = *registry;
@@ -96,9 +98,10 @@ void Server::admit(std::unique_ptr<Transport> transport) {
   }
   const std::uint64_t id = next_session_id_++;
   const bool full = sessions_.size() >= config_.max_connections;
-  if (full && refused_.size() >= config_.max_connections) {
+  if (full && refused_.size() >= config_.max_pending_refusals) {
     // A flood of connections: refusing each politely would cost as much as
-    // serving it, so these are closed without a word.
+    // serving it, so these are closed without a word, and counted.
+    refusals_.note(false);
     transport->close();
     return;
   }
@@ -107,6 +110,7 @@ void Server::admit(std::unique_ptr<Transport> transport) {
     refused_.erase(closed);
   });
   if (full) {
+    refusals_.note(true);
     refused_.emplace(id, session);
     session->refuse(
         tumble::v1::RESOURCE_EXHAUSTED,

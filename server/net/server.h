@@ -2,9 +2,12 @@
 // clients through the HTTP endpoint when it is on (net/http_listener.h),
 // and keeps every client's session, whatever its transport. Beyond
 // max_connections a new client of either kind is refused with
-// RESOURCE_EXHAUSTED and closed; the sessions it has are not affected. A
+// RESOURCE_EXHAUSTED and closed; the sessions it has are not affected. While
+// max_pending_refusals refusals are still being written, one more client
+// over the limit is closed without a word. Every refusal counts in Stats's
+// connections_refused and in a log line a second (net/refusal_tally.h). A
 // periodic sweep enforces every session's deadlines (handshake timeout,
-// undelivered messages).
+// partial frames, undelivered messages).
 //
 // Thread: constructed, started and stopped on the thread that runs the
 // io_context (or before it runs); all its work happens there.
@@ -19,6 +22,7 @@
 #include "net/asio.h"
 #include "net/http_listener.h"
 #include "net/publisher.h"
+#include "net/refusal_tally.h"
 #include "net/session.h"
 #include "net/transport.h"
 #include "sim/simulation.h"
@@ -31,12 +35,15 @@ struct ServerConfig {
   std::uint16_t port = 7400;  // 0 picks a free port; see Server::port()
   SessionLimits limits;
   std::size_t max_connections = 1024;  // sessions at once, handshaking ones included
-  AccessTokens access;                 // none set: every client is a controller
+  // Refusals over max_connections being written at once; beyond, a refusal is a close.
+  std::size_t max_pending_refusals = 256;
+  AccessTokens access;  // none set: every client is a controller
   std::string server_version;
   // The HTTP endpoint (the viewer's page, WebSocket clients at /ws); off unless serve_http.
   bool serve_http = false;
   std::string http_host = "127.0.0.1";
   std::uint16_t http_port = 8080;  // 0 picks a free port; see Server::http_port()
+  HttpLimits http_limits;          // its own connection limit, header deadline and Host names
   // I/O time a frame's fan-out to its sessions takes before the I/O thread
   // reads requests again (Publisher); 0: one session at a time.
   std::chrono::microseconds fanout_slice{250};
@@ -78,7 +85,8 @@ class Server {
   boost::asio::steady_timer accept_retry_;
   boost::asio::steady_timer sweep_timer_;
   Publisher publisher_;
-  NetCounters counters_;  // GetStats's clients and bytes_sent, kept by the sessions
+  NetCounters counters_;   // GetStats's network figures, kept by the sessions and the listeners
+  RefusalTally refusals_;  // connections refused over max_connections
   SessionContext context_;
   std::map<std::uint64_t, std::shared_ptr<Session>> sessions_;
   // Connections being refused (their Error still being written); not counted against max_connections.

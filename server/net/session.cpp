@@ -36,6 +36,7 @@ Session::Session(std::unique_ptr<Transport> transport, std::uint64_t id, Session
       reader_(context.limits.max_frame_bytes),
       connected_at_(Clock::now()),
       command_budget_(context.limits.commands_per_second, context.limits.command_burst, connected_at_),
+      error_budget_(context.limits.errors_per_second, context.limits.error_burst, connected_at_),
       linger_timer_(context.io) {
   ++context_.counters.clients;
 }
@@ -82,12 +83,21 @@ void Session::on_read(const boost::system::error_code& error, std::size_t bytes)
   }
   reader_.append(read_buffer_.data(), bytes);
   std::string_view body;
+  bool took_frame = false;
   for (;;) {
     switch (reader_.next(body)) {
       case wire::FrameStatus::frame:
+        took_frame = true;
         if (!handle_frame(body)) return;
         continue;
       case wire::FrameStatus::need_more:
+        // A frame held in part began with these bytes unless it was already
+        // under way before them (and no whole frame came in between).
+        if (reader_.buffered_bytes() == 0) {
+          frame_begun_at_.reset();
+        } else if (took_frame || !frame_begun_at_) {
+          frame_begun_at_ = Clock::now();
+        }
         read_more();
         return;
       case wire::FrameStatus::too_large:
@@ -114,7 +124,7 @@ bool Session::handle_frame(std::string_view body) {
     return greeted_;
   }
   handle_request(std::move(message));
-  return !closed_;
+  return !closed_ && !reading_stopped_;
 }
 
 void Session::handle_hello(const ClientMessage& message) {
@@ -215,6 +225,7 @@ void Session::handle_request(ClientMessage message) {
 }
 
 void Session::send_reply(ServerMessage reply) {
+  if (reply.has_error() && !charge_error()) return;
   if (reply.has_stats()) context_.counters.fill(*reply.mutable_stats());
   send(reply);
 }
@@ -268,6 +279,24 @@ void Session::handle_unsubscribe(const ClientMessage& message) {
 }
 
 void Session::send_error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text) {
+  if (charge_error()) queue_error(request_id, code, text);
+}
+
+bool Session::charge_error() {
+  // Once closed for its errors a client gets no more of them; a session
+  // closing for another reason answers what it took before, which is
+  // bounded by what it read before it stopped.
+  if (closed_for_errors_) return false;
+  if (reading_stopped_ || closed_) return true;
+  if (error_budget_.try_take(Clock::now())) return true;
+  closed_for_errors_ = true;
+  ++context_.counters.clients_closed_for_errors;
+  fail(tumble::v1::RESOURCE_EXHAUSTED, fmt::format("over the limit of {:g} errors per second; the connection is closed",
+                                                   context_.limits.errors_per_second));
+  return false;
+}
+
+void Session::queue_error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text) {
   ServerMessage reply;
   auto& error = *reply.mutable_error();
   error.set_request_id(request_id);
@@ -279,20 +308,36 @@ void Session::send_error(std::uint64_t request_id, tumble::v1::ErrorCode code, c
 void Session::fail(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id) {
   net_log().warn("session {}: {}: {} ({}); closing", id_, peer_, sim::log_text(text, sim::kLogMessageBytes),
                  tumble::v1::ErrorCode_Name(code));
-  send_error(request_id, code, text);
+  stop_with_error(code, text, request_id);
+}
+
+void Session::stop_with_error(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id) {
+  queue_error(request_id, code, text);
   reading_stopped_ = true;
   close_when_flushed_ = true;
   close_reason_ = text;
+  close_code_ = code;
   if (!writing_) write_more();
 }
 
-void Session::refuse(tumble::v1::ErrorCode code, const std::string& text) { fail(code, text); }
+void Session::refuse(tumble::v1::ErrorCode code, const std::string& text) {
+  net_log().debug("session {}: {}: refused: {}", id_, peer_, text);
+  stop_with_error(code, text, 0);
+}
 
 void Session::enforce_deadlines(Clock::time_point now) {
   if (closed_) return;
   if (!greeted_ && !reading_stopped_ && now - connected_at_ > context_.limits.handshake_timeout) {
     fail(tumble::v1::HANDSHAKE_REQUIRED,
          "no Hello within " + seconds_text(context_.limits.handshake_timeout) + " of connecting");
+    return;
+  }
+  // Before Hello the handshake timeout bounds a partial frame.
+  if (greeted_ && !reading_stopped_ && frame_begun_at_ && now - *frame_begun_at_ > context_.limits.frame_timeout) {
+    fail(tumble::v1::MALFORMED_FRAME, "a frame begun " + seconds_text(now - *frame_begun_at_) + " ago has " +
+                                          std::to_string(reader_.buffered_bytes()) +
+                                          " bytes and is still incomplete, over the limit of " +
+                                          seconds_text(context_.limits.frame_timeout));
     return;
   }
   // Anything queued is written as soon as the write before it is done, so
@@ -359,7 +404,8 @@ void Session::on_written(const boost::system::error_code& error) {
 void Session::linger() {
   shut_down_ = true;
   // The handler only keeps the session alive while the transport shuts down.
-  transport_->async_shutdown(close_reason_, [self = shared_from_this()](const boost::system::error_code&) {});
+  const auto cause = close_code_ == tumble::v1::FRAME_TOO_LARGE ? ShutdownCause::too_large : ShutdownCause::refused;
+  transport_->async_shutdown(cause, close_reason_, [self = shared_from_this()](const boost::system::error_code&) {});
   linger_timer_.expires_after(std::chrono::seconds(2));
   linger_timer_.async_wait([self = shared_from_this()](const boost::system::error_code& error) {
     if (!error) self->close(self->close_reason_);

@@ -8,7 +8,12 @@
 // does not accept, a frame over the size limit or bytes that are not a
 // ClientMessage get an Error and the connection is closed once the Error is
 // written. A request that is merely wrong (unknown body, NaN force), over the
-// client's rate, or beyond its role gets an Error and the session goes on. A
+// client's rate, or beyond its role gets an Error and the session goes on,
+// unless the client draws Errors faster than its error budget allows: then
+// one RESOURCE_EXHAUSTED says so and the connection is closed, so a stream of
+// junk costs a few replies, not one per request. After Hello, a frame whose
+// first byte has arrived must arrive whole within frame_timeout (a client
+// idle between frames is not affected), else MALFORMED_FRAME and a close. A
 // client that lets more than max_pending_bytes of replies pile up unread, or
 // leaves anything undelivered for longer than max_undelivered, is
 // disconnected.
@@ -22,6 +27,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -53,6 +59,10 @@ struct SessionLimits {
   std::chrono::steady_clock::duration handshake_timeout = std::chrono::seconds(10);
   double commands_per_second = 1000;  // requests after Hello, on average; > 0
   double command_burst = 1000;        // requests at once, before the rate applies; >= 1
+  // How long a frame may take to arrive once its first byte has, after Hello.
+  std::chrono::steady_clock::duration frame_timeout = std::chrono::seconds(10);
+  double errors_per_second = 100;  // Errors a client may draw, on average, before it is closed; > 0
+  double error_burst = 100;        // Errors at once, before the rate applies; >= 1
 };
 
 // What a session needs from the server that made it.
@@ -90,13 +100,15 @@ class Session : public std::enable_shared_from_this<Session> {
   void close(const std::string& reason);
 
   // Instead of start(), for a connection the server will not serve: writes
-  // an Error of `code` and `text`, then closes, reading no request.
+  // an Error of `code` and `text`, then closes, reading no request. Logged
+  // at debug level only: the server counts refusals and logs their number.
   void refuse(tumble::v1::ErrorCode code, const std::string& text);
 
   // Disconnects the client if a deadline has passed at `now`: no Hello
-  // within the handshake timeout (HANDSHAKE_REQUIRED), or a reply or frame
-  // undelivered for longer than max_undelivered. The server calls it
-  // periodically.
+  // within the handshake timeout (HANDSHAKE_REQUIRED), a frame begun longer
+  // than frame_timeout ago and still incomplete (MALFORMED_FRAME), or a
+  // reply or frame undelivered for longer than max_undelivered. The server
+  // calls it periodically.
   void enforce_deadlines(std::chrono::steady_clock::time_point now);
 
   std::uint64_t id() const { return id_; }
@@ -117,9 +129,17 @@ class Session : public std::enable_shared_from_this<Session> {
   void handle_subscribe(const tumble::v1::ClientMessage& message);
   void handle_unsubscribe(const tumble::v1::ClientMessage& message);
   void handle_key_frame_request(const tumble::v1::ClientMessage& message);
+  // Answers a request with an Error, charged to the client's error budget;
+  // over budget, the session fails with RESOURCE_EXHAUSTED instead.
   void send_error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text);
-  // Sends an error, stops reading and closes once everything queued is written.
+  // Takes one Error from the budget; false (and the session failing) when it is spent.
+  bool charge_error();
+  // Queues an Error whatever the budget.
+  void queue_error(std::uint64_t request_id, tumble::v1::ErrorCode code, const std::string& text);
+  // Logs, sends an error, stops reading and closes once everything queued is written.
   void fail(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id = 0);
+  // fail() without its log line.
+  void stop_with_error(tumble::v1::ErrorCode code, const std::string& text, std::uint64_t request_id);
   void write_more();
   void on_written(const boost::system::error_code& error);
   // After a refusal: the Error is written, so half-close and read until the
@@ -144,7 +164,11 @@ class Session : public std::enable_shared_from_this<Session> {
   const std::chrono::steady_clock::time_point connected_at_;
   tumble::v1::Role role_ = tumble::v1::ROLE_UNSPECIFIED;  // set by the Hello
   TokenBucket command_budget_;                            // requests this client may still send now
-  bool rate_limited_ = false;  // the last request was refused for its rate (logged once per episode)
+  bool rate_limited_ = false;       // the last request was refused for its rate (logged once per episode)
+  TokenBucket error_budget_;        // Errors this client may still draw now
+  bool closed_for_errors_ = false;  // the budget ran out: the session is closing, and sends no more Errors
+  // When the first byte of the frame reader_ holds in part arrived; empty between frames.
+  std::optional<std::chrono::steady_clock::time_point> frame_begun_at_;
 
   OutboundQueue outbound_;
   OutboundQueue::Batch in_flight_;
@@ -155,6 +179,7 @@ class Session : public std::enable_shared_from_this<Session> {
   bool close_when_flushed_ = false;
   bool shut_down_ = false;  // linger() has ended the sending side: nothing more is written
   std::string close_reason_;
+  tumble::v1::ErrorCode close_code_ = tumble::v1::ERROR_CODE_UNSPECIFIED;  // the Error a failed session ended with
   boost::asio::steady_timer linger_timer_;
 };
 

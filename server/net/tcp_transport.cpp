@@ -28,7 +28,7 @@ void TcpTransport::async_write(const std::vector<asio::const_buffer>& buffers, D
       [handler = std::move(handler)](const boost::system::error_code& error, std::size_t) { handler(error); });
 }
 
-void TcpTransport::async_shutdown(const std::string& /*reason*/, DoneHandler handler) {
+void TcpTransport::async_shutdown(ShutdownCause /*cause*/, const std::string& /*reason*/, DoneHandler handler) {
   boost::system::error_code error;
   socket_.shutdown(asio::ip::tcp::socket::shutdown_send, error);
   asio::post(socket_.get_executor(), [handler = std::move(handler), error] { handler(error); });

@@ -19,7 +19,7 @@ class TcpTransport final : public Transport {
   void async_read_some(boost::asio::mutable_buffer buffer, ReadHandler handler) override;
   void async_write(const std::vector<boost::asio::const_buffer>& buffers, DoneHandler handler) override;
   // Shuts down the sending side at once; the handler is posted.
-  void async_shutdown(const std::string& reason, DoneHandler handler) override;
+  void async_shutdown(ShutdownCause cause, const std::string& reason, DoneHandler handler) override;
   void close() override;
   const std::string& peer() const override { return peer_; }
   const char* kind() const override { return "TCP"; }

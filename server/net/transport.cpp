@@ -15,6 +15,9 @@ class TransportCategory final : public boost::system::error_category {
     switch (static_cast<TransportError>(value)) {
       case TransportError::text_message:
         return "a text WebSocket message: tumble reads ClientMessage frames from binary messages only";
+      case TransportError::illegal_frame_length:
+        return "a WebSocket frame's 64-bit payload length has its most significant bit set, which RFC 6455 "
+               "section 5.2 forbids";
     }
     return "unknown transport error";
   }

@@ -22,6 +22,13 @@
 
 namespace tumble::net {
 
+// Why a Session ends its stream, for a transport that can tell the peer (a
+// WebSocket close code).
+enum class ShutdownCause {
+  refused,    // the client broke a rule or a limit, or was refused: 1008 (policy violation)
+  too_large,  // the client announced a frame over the size limit: 1009 (message too big)
+};
+
 class Transport {
  public:
   using ReadHandler = std::function<void(const boost::system::error_code& error, std::size_t bytes)>;
@@ -43,9 +50,10 @@ class Transport {
   virtual std::size_t wire_size(std::size_t payload) const = 0;
 
   // Ends the outgoing direction after what was written: a TCP FIN, or a
-  // WebSocket close frame that carries `reason`. Reading goes on until the
-  // peer closes its side too. Nothing may be written after it.
-  virtual void async_shutdown(const std::string& reason, DoneHandler handler) = 0;
+  // WebSocket close frame that carries `cause` as its code and `reason`.
+  // Reading goes on until the peer closes its side too. Nothing may be
+  // written after it.
+  virtual void async_shutdown(ShutdownCause cause, const std::string& reason, DoneHandler handler) = 0;
 
   // Closes the connection at once.
   virtual void close() = 0;
@@ -61,7 +69,8 @@ class Transport {
 // transport's rules, not the socket. A Session answers one with an Error
 // and closes, as it does a malformed frame.
 enum class TransportError {
-  text_message = 1,  // a WebSocket text message: the protocol is carried in binary messages only
+  text_message = 1,          // a WebSocket text message: the protocol is carried in binary messages only
+  illegal_frame_length = 2,  // a WebSocket frame's 64-bit length with its top bit set (RFC 6455 5.2)
 };
 
 const boost::system::error_category& transport_category();

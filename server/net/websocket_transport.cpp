@@ -30,7 +30,7 @@ std::string truncate_utf8(const std::string& reason, std::size_t max_bytes) {
 }
 
 WebSocketTransport::WebSocketTransport(beast::tcp_stream stream)
-    : ws_(std::move(stream)), peer_(peer_of(beast::get_lowest_layer(ws_).socket())) {
+    : ws_(CheckedTcpStream(std::move(stream))), peer_(peer_of(beast::get_lowest_layer(ws_).socket())) {
   boost::system::error_code ignored;
   beast::get_lowest_layer(ws_).socket().set_option(asio::ip::tcp::no_delay(true), ignored);
   // The HTTP side's read deadline is over: from here the WebSocket keeps
@@ -54,10 +54,20 @@ void WebSocketTransport::async_accept(const UpgradeRequest& request, DoneHandler
 }
 
 void WebSocketTransport::async_read_some(asio::mutable_buffer buffer, ReadHandler handler) {
+  if (broken_) {
+    // Only a Session that is closing reads now, to discard what comes.
+    beast::get_lowest_layer(ws_).socket().async_read_some(buffer, std::move(handler));
+    return;
+  }
   // `this` outlives the read: the Session that owns the transport is kept
   // alive by `handler`.
   ws_.async_read_some(buffer,
                       [this, handler = std::move(handler)](const boost::system::error_code& error, std::size_t bytes) {
+                        if (error == TransportError::illegal_frame_length) {
+                          broken_ = true;
+                          handler(error, 0);
+                          return;
+                        }
                         if (error == websocket::error::closed) {
                           // The peer's close frame: the end of the stream, as a TCP FIN is.
                           handler(asio::error::eof, bytes);
@@ -73,18 +83,63 @@ void WebSocketTransport::async_read_some(asio::mutable_buffer buffer, ReadHandle
 }
 
 void WebSocketTransport::async_write(const std::vector<asio::const_buffer>& buffers, DoneHandler handler) {
+  if (broken_) {
+    async_write_raw(0x2, buffers, std::move(handler));  // a binary frame
+    return;
+  }
   ws_.async_write(
       buffers, [handler = std::move(handler)](const boost::system::error_code& error, std::size_t) { handler(error); });
 }
 
-void WebSocketTransport::async_shutdown(const std::string& reason, DoneHandler handler) {
+void WebSocketTransport::async_shutdown(ShutdownCause cause, const std::string& reason, DoneHandler handler) {
+  if (broken_) {
+    // A close frame of code 1002, then a FIN: Beast can no longer do either.
+    const std::string text = truncate_utf8(reason, kMaxCloseReasonBytes);
+    const auto code = static_cast<std::uint16_t>(websocket::close_code::protocol_error);
+    raw_close_payload_ = std::string{static_cast<char>(code >> 8), static_cast<char>(code & 0xFF)} + text;
+    async_write_raw(0x8, {asio::buffer(raw_close_payload_)},
+                    [this, handler = std::move(handler)](const boost::system::error_code& error) {
+                      boost::system::error_code ignored;
+                      beast::get_lowest_layer(ws_).socket().shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+                      handler(error);
+                    });
+    return;
+  }
   if (!ws_.is_open()) {
     // The peer's close frame came first (and was answered), or the stream failed.
     asio::post(ws_.get_executor(), [handler = std::move(handler)] { handler({}); });
     return;
   }
-  const websocket::close_reason close(websocket::close_code::policy_error, truncate_utf8(reason, kMaxCloseReasonBytes));
+  const auto code =
+      cause == ShutdownCause::too_large ? websocket::close_code::too_big : websocket::close_code::policy_error;
+  const websocket::close_reason close(code, truncate_utf8(reason, kMaxCloseReasonBytes));
   ws_.async_close(close, std::move(handler));
+}
+
+void WebSocketTransport::async_write_raw(unsigned char opcode, const std::vector<asio::const_buffer>& payload,
+                                         DoneHandler handler) {
+  const std::size_t size = asio::buffer_size(payload);
+  // RFC 6455 5.2: FIN and the opcode; then the length in 7 bits, or 126 and
+  // 16 bits, or 127 and 64 bits; a server's frames are not masked.
+  std::size_t header = 0;
+  raw_header_[header++] = static_cast<unsigned char>(0x80 | opcode);
+  if (size < 126) {
+    raw_header_[header++] = static_cast<unsigned char>(size);
+  } else if (size <= 0xFFFF) {
+    raw_header_[header++] = 126;
+    for (int shift = 8; shift >= 0; shift -= 8) raw_header_[header++] = static_cast<unsigned char>(size >> shift);
+  } else {
+    raw_header_[header++] = 127;
+    for (int shift = 56; shift >= 0; shift -= 8) {
+      raw_header_[header++] = static_cast<unsigned char>(static_cast<std::uint64_t>(size) >> shift);
+    }
+  }
+  raw_buffers_.clear();
+  raw_buffers_.emplace_back(raw_header_.data(), header);
+  raw_buffers_.insert(raw_buffers_.end(), payload.begin(), payload.end());
+  asio::async_write(
+      beast::get_lowest_layer(ws_).socket(), raw_buffers_,
+      [handler = std::move(handler)](const boost::system::error_code& error, std::size_t) { handler(error); });
 }
 
 void WebSocketTransport::close() {

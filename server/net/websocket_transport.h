@@ -6,11 +6,20 @@
 // Session goes out as one binary message, which may hold several frames. A
 // text message is refused (TransportError::text_message). When the Session
 // closes after an Error, the close frame carries the Error's sentence with
-// code 1008 (policy violation).
+// code 1008 (policy violation), or 1009 (message too big) for a frame over
+// the size limit. A message may be of any size: its payload is streamed, and
+// the Session bounds each frame in it.
+//
+// A frame header with an illegal 64-bit length (net/checked_tcp_stream.h)
+// is reported as TransportError::illegal_frame_length. Beast's stream has
+// failed by then, so what the Session still writes (its Error) goes onto the
+// socket in frames made here, and the close frame carries code 1002
+// (protocol error) with the reason, followed by a TCP FIN.
 //
 // Thread: the I/O thread only.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -20,13 +29,14 @@
 #include <boost/beast/websocket/stream.hpp>
 
 #include "net/asio.h"
+#include "net/checked_tcp_stream.h"
 #include "net/transport.h"
 
 namespace tumble::net {
 
 class WebSocketTransport final : public Transport {
  public:
-  using Stream = boost::beast::websocket::stream<boost::beast::tcp_stream>;
+  using Stream = boost::beast::websocket::stream<CheckedTcpStream>;
   using UpgradeRequest = boost::beast::http::request<boost::beast::http::empty_body>;
 
   // Takes a connection whose HTTP request asked for a WebSocket upgrade;
@@ -40,10 +50,11 @@ class WebSocketTransport final : public Transport {
 
   void async_read_some(boost::asio::mutable_buffer buffer, ReadHandler handler) override;
   void async_write(const std::vector<boost::asio::const_buffer>& buffers, DoneHandler handler) override;
-  // Sends a close frame with code 1008 and `reason` (cut to the 123 bytes a
-  // close frame holds); the read under way ends when the peer's close frame
-  // comes. Completes at once when the WebSocket is already closing.
-  void async_shutdown(const std::string& reason, DoneHandler handler) override;
+  // Sends a close frame with the code of `cause` (or 1002 after an illegal
+  // frame) and `reason` (cut to the 123 bytes a close frame holds); the read
+  // under way ends when the peer's close frame comes. Completes at once when
+  // the WebSocket is already closing.
+  void async_shutdown(ShutdownCause cause, const std::string& reason, DoneHandler handler) override;
   void close() override;
   const std::string& peer() const override { return peer_; }
   const char* kind() const override { return "WebSocket"; }
@@ -54,9 +65,18 @@ class WebSocketTransport final : public Transport {
   }
 
  private:
+  // After an illegal frame: writes `payload` in one unmasked frame of
+  // `opcode` straight onto the socket (Beast's stream has failed).
+  void async_write_raw(unsigned char opcode, const std::vector<boost::asio::const_buffer>& payload,
+                       DoneHandler handler);
+
   Stream ws_;
   std::string peer_;
-  bool refused_text_ = false;  // a text message was reported; later reads just drain
+  bool refused_text_ = false;                           // a text message was reported; later reads just drain
+  bool broken_ = false;                                 // the client sent an illegal frame: Beast's stream has failed
+  std::array<unsigned char, 10> raw_header_{};          // the header of the frame async_write_raw is writing
+  std::vector<boost::asio::const_buffer> raw_buffers_;  // that frame's header and payload
+  std::string raw_close_payload_;                       // a close frame's code and reason, while written
 };
 
 // `reason` cut to at most `max_bytes`, never inside a UTF-8 sequence.

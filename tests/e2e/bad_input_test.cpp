@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "cli_helpers.h"
+#include "poll_until.h"
 #include "raw_client.h"
 #include "replies.h"
 #include "requests.h"
@@ -474,6 +475,13 @@ TEST_F(BadInput, ConnectionsOverTheLimitAreRefusedAndTheOthersGoOn) {
     EXPECT_NE(reply->error().message().find("limit of 3 connections"), std::string::npos) << reply->error().message();
     EXPECT_TRUE(extra.closed_by_server());
   }
+  // Refusals are counted, and logged as one line a second.
+  const auto stats = ask(*clients[0], get_stats(9));
+  ASSERT_TRUE(stats && stats->has_stats()) << describe(stats);
+  EXPECT_EQ(stats->stats().connections_refused(), 1u);
+  EXPECT_TRUE(poll_until([&] {
+    return server.log().find("refused 1 connections over the limit of 3 in the last second") != std::string::npos;
+  })) << server.log();
   for (std::uint64_t i = 0; i < clients.size(); ++i) {
     const auto list = ask(*clients[i], list_bodies(10 + i));
     EXPECT_TRUE(list && list->has_body_list()) << describe(list);
@@ -488,6 +496,50 @@ TEST_F(BadInput, ConnectionsOverTheLimitAreRefusedAndTheOthersGoOn) {
     if (!admitted) std::this_thread::sleep_for(milliseconds(100));
   }
   EXPECT_TRUE(admitted);
+  ExpectHealthy(server);
+}
+
+// 100,000 zero bytes after Hello are 100,000 empty envelopes: the client
+// gets the error budget's worth of replies, one RESOURCE_EXHAUSTED and a
+// close, a few kilobytes instead of megabytes.
+TEST_F(BadInput, AHundredThousandZeroBytesDrawAFewKilobytesAndAClose) {
+  TumbledProcess server(kScene);
+  ASSERT_TRUE(server.started()) << server.log();
+  RawClient flood(server.port());
+  ASSERT_TRUE(greet(flood));
+  ASSERT_TRUE(flood.send_bytes(std::string(100000, '\0')));
+  std::size_t replies = 0;
+  std::size_t reply_bytes = 0;
+  std::optional<ServerMessage> last;
+  while (auto message = flood.read(seconds(10))) {
+    ++replies;
+    reply_bytes += wire::encode_frame(*message).size();
+    last = message;
+  }
+  EXPECT_TRUE(flood.saw_eof());
+  ASSERT_TRUE(last);
+  EXPECT_EQ(last->error().code(), tumble::v1::RESOURCE_EXHAUSTED) << describe(last);
+  EXPECT_EQ(last->error().message(), "over the limit of 100 errors per second; the connection is closed");
+  EXPECT_LE(replies, 121u);
+  EXPECT_LT(reply_bytes, 12000u);
+  std::cout << "[ figures  ] 100000 zero bytes: " << replies << " replies, " << reply_bytes << " bytes" << std::endl;
+
+  RawClient watcher(server.port());
+  ASSERT_TRUE(greet(watcher));
+  const auto stats = ask(watcher, get_stats(2));
+  ASSERT_TRUE(stats && stats->has_stats()) << describe(stats);
+  EXPECT_EQ(stats->stats().clients_closed_for_errors(), 1u);
+  ExpectHealthy(server);
+}
+
+TEST_F(BadInput, AFrameThatStallsIsCutOffAfterTheFrameTimeout) {
+  TumbledProcess server(kScene, {"--frame-timeout", "0.3"});
+  ASSERT_TRUE(server.started()) << server.log();
+  RawClient staller(server.port());
+  ASSERT_TRUE(greet(staller));
+  ASSERT_TRUE(staller.send_bytes("\x20partial"));  // announces 32 bytes, sends 7
+  ExpectRefusedAndClosed(staller, tumble::v1::MALFORMED_FRAME);
+  EXPECT_NE(server.log().find("is still incomplete, over the limit of 0.3 s"), std::string::npos) << server.log();
   ExpectHealthy(server);
 }
 

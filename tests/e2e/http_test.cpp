@@ -14,6 +14,7 @@
 
 #include "cli_helpers.h"
 #include "http_client.h"
+#include "poll_until.h"
 #include "tumbled_process.h"
 #include "ws_client.h"
 
@@ -56,11 +57,16 @@ std::set<std::uint16_t> listening_ports(pid_t pid) {
 
 // tumbled on the scene with --http on an ephemeral port, and that port.
 struct HttpTumbled {
-  HttpTumbled() : process(kFloatingScene, {"--http", "127.0.0.1:0", "--http-port-file", port_file()}) {
+  explicit HttpTumbled(std::vector<std::string> extra_args = {})
+      : process(kFloatingScene, with_http(std::move(extra_args))) {
     const std::string text = read_file(port_file());  // written before --port-file, which started() waited for
     if (!text.empty()) http_port = static_cast<std::uint16_t>(std::stoul(text));
   }
   std::string port_file() const { return dir + "/http-port"; }
+  std::vector<std::string> with_http(std::vector<std::string> args) const {
+    args.insert(args.begin(), {"--http", "127.0.0.1:0", "--http-port-file", port_file()});
+    return args;
+  }
 
   std::string dir = make_temp_dir();
   TumbledProcess process;
@@ -128,6 +134,41 @@ TEST(TumbledHttp, WithoutTheFlagNothingListensForHttp) {
   ASSERT_TRUE(with_http.process.started()) << with_http.process.log();
   EXPECT_EQ(listening_ports(with_http.process.process().pid()),
             (std::set<std::uint16_t>{with_http.process.port(), with_http.http_port}));
+}
+
+// The HTTP endpoint's own limits, set by their flags: the Host names it
+// answers to, the header deadline, and the connections it holds.
+TEST(TumbledHttp, TheHttpLimitsComeFromTheirFlags) {
+  HttpTumbled named_server({"--http-allowed-hosts", "viewer.example"});
+  ASSERT_TRUE(named_server.process.started()) << named_server.process.log();
+  // Each request on a connection of its own, one after the other.
+  HttpClient named(named_server.http_port);
+  ASSERT_TRUE(named.send_bytes("GET / HTTP/1.1\r\nHost: viewer.example:8080\r\n\r\n"));
+  const auto served = named.read_response();
+  ASSERT_TRUE(served);
+  EXPECT_EQ(served->result_int(), 200u);
+  HttpClient by_address(named_server.http_port);  // the default names are replaced
+  ASSERT_TRUE(by_address.send_request("GET", "/"));
+  const auto refused = by_address.read_response();
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->result_int(), 421u);
+
+  HttpTumbled server({"--http-header-timeout", "0.3", "--max-http-connections", "1"});
+  ASSERT_TRUE(server.process.started()) << server.process.log();
+  HttpClient slow(server.http_port);
+  ASSERT_TRUE(slow.send_bytes("GET / HTTP/1.1\r\n"));
+  // While the slow one is held, it is the one HTTP connection allowed.
+  HttpClient over(server.http_port);
+  const auto nothing = over.bytes_until_closed();
+  ASSERT_TRUE(nothing) << "the connection over --max-http-connections was not closed";
+  EXPECT_EQ(*nothing, "");
+  const auto timed_out = slow.read_response();
+  ASSERT_TRUE(timed_out);
+  EXPECT_EQ(timed_out->result_int(), 408u);
+  EXPECT_TRUE(poll_until([&] {
+    return server.process.log().find("refused 1 HTTP connections over the limit of 1 in the last second") !=
+           std::string::npos;
+  })) << server.process.log();
 }
 
 TEST(TumbledHttp, BadHttpFlagsAreErrors) {

@@ -93,7 +93,8 @@ TEST_F(HttpEndpointTest, HeadTellsTheLengthAndSendsNoBody) {
 
 TEST_F(HttpEndpointTest, KeptAliveConnectionServesPipelinedRequests) {
   HttpClient client(server_.http_port());
-  ASSERT_TRUE(client.send_bytes("GET /viewer.js HTTP/1.1\r\nHost: x\r\n\r\nGET / HTTP/1.1\r\nHost: x\r\n\r\n"));
+  const std::string host = "Host: 127.0.0.1:" + std::to_string(server_.http_port()) + "\r\n";
+  ASSERT_TRUE(client.send_bytes("GET /viewer.js HTTP/1.1\r\n" + host + "\r\nGET / HTTP/1.1\r\n" + host + "\r\n"));
   const auto first = client.read_response();
   const auto second = client.read_response();
   ASSERT_TRUE(first && second);
@@ -212,6 +213,139 @@ TEST_F(HttpEndpointTest, WebSocketPathWithoutUpgradeIs426) {
   ASSERT_TRUE(response);
   EXPECT_EQ(response->result(), http::status::upgrade_required);
   EXPECT_EQ((*response)[http::field::upgrade], "websocket");
+}
+
+// RFC 9112 3.2: a server answers an HTTP/1.1 request without Host with 400.
+TEST_F(HttpEndpointTest, Http11WithoutHostIs400) {
+  HttpClient client(server_.http_port());
+  ASSERT_TRUE(client.send_bytes("GET / HTTP/1.1\r\n\r\n"));
+  const auto response = client.read_response();
+  ASSERT_TRUE(response);
+  EXPECT_EQ(response->result(), http::status::bad_request);
+  EXPECT_EQ(response->body(), "an HTTP/1.1 request must have a Host header (RFC 9112 section 3.2)\n");
+
+  // HTTP/1.0 had no Host: such a request is served.
+  HttpClient old(server_.http_port());
+  ASSERT_TRUE(old.send_bytes("GET / HTTP/1.0\r\n\r\n"));
+  const auto served = old.read_response();
+  ASSERT_TRUE(served);
+  EXPECT_EQ(served->result(), http::status::ok);
+}
+
+// A page that rebinds its own name to 127.0.0.1 sends that name as Host,
+// and an Origin that matches it: the page and the WebSocket are refused.
+TEST_F(HttpEndpointTest, AHostNotAllowedIs421ForPagesAndWebSockets) {
+  const std::string port = std::to_string(server_.http_port());
+  HttpClient page(server_.http_port());
+  ASSERT_TRUE(page.send_bytes("GET / HTTP/1.1\r\nHost: rebound.example:" + port + "\r\n\r\n"));
+  const auto refused = page.read_response();
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->result(), http::status::misdirected_request);
+  EXPECT_EQ(refused->body(), "this server does not answer to the host name 'rebound.example:" + port +
+                                 "' (see tumbled's --http-allowed-hosts)\n");
+  EXPECT_TRUE(page.closed_by_server());
+
+  HttpClient socket(server_.http_port());
+  ASSERT_TRUE(socket.send_bytes("GET /ws HTTP/1.1\r\nHost: rebound.example:" + port +
+                                "\r\nOrigin: http://rebound.example:" + port +
+                                "\r\nConnection: Upgrade\r\nUpgrade: websocket\r\nSec-WebSocket-Version: 13\r\n"
+                                "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\r\n"));
+  const auto no_upgrade = socket.read_response();
+  ASSERT_TRUE(no_upgrade);
+  EXPECT_EQ(no_upgrade->result(), http::status::misdirected_request);
+
+  // The defaults: the listen address, localhost, 127.0.0.1 and [::1], with the port, in any case.
+  for (const std::string& host : {"127.0.0.1:" + port, "LocalHost:" + port, "[::1]:" + port}) {
+    HttpClient allowed(server_.http_port());
+    ASSERT_TRUE(allowed.send_bytes("GET / HTTP/1.1\r\nHost: " + host + "\r\n\r\n"));
+    const auto served = allowed.read_response();
+    ASSERT_TRUE(served) << host;
+    EXPECT_EQ(served->result(), http::status::ok) << host;
+  }
+  // The right name on another port is another server.
+  HttpClient other_port(server_.http_port());
+  ASSERT_TRUE(other_port.send_bytes("GET / HTTP/1.1\r\nHost: localhost:1\r\n\r\n"));
+  const auto misdirected = other_port.read_response();
+  ASSERT_TRUE(misdirected);
+  EXPECT_EQ(misdirected->result(), http::status::misdirected_request);
+}
+
+TEST(HttpEndpoint, AllowedHostsReplaceTheDefaults) {
+  net::ServerConfig config = with_http();
+  config.http_limits.allowed_hosts = {"viewer.example", "lab.example:9000"};
+  TestServer server(kScene, 240, config);
+  const auto status_for = [&](const std::string& host) {
+    HttpClient client(server.http_port());
+    client.send_bytes("GET / HTTP/1.1\r\nHost: " + host + "\r\n\r\n");
+    const auto response = client.read_response();
+    return response ? response->result_int() : 0u;
+  };
+  EXPECT_EQ(status_for("viewer.example"), 200u);
+  EXPECT_EQ(status_for("VIEWER.example:8443"), 200u);  // a name without a port allows any
+  EXPECT_EQ(status_for("lab.example:9000"), 200u);
+  EXPECT_EQ(status_for("lab.example:9001"), 421u);
+  EXPECT_EQ(status_for("127.0.0.1:" + std::to_string(server.http_port())), 421u);
+}
+
+TEST(HttpEndpoint, AHeaderThatDoesNotArriveInTimeIs408AndAnIdleConnectionIsClosed) {
+  net::ServerConfig config = with_http();
+  config.http_limits.header_timeout = std::chrono::milliseconds(300);
+  TestServer server(kScene, 240, config);
+
+  HttpClient slow(server.http_port());
+  ASSERT_TRUE(slow.send_bytes("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n"));  // no blank line: never ends
+  const auto response = slow.read_response();
+  ASSERT_TRUE(response);
+  EXPECT_EQ(response->result(), http::status::request_timeout);
+  EXPECT_EQ(response->body(), "the request's header did not arrive whole within 0.3 s\n");
+  EXPECT_TRUE(slow.closed_by_server());
+
+  // Nothing sent: closed without an answer.
+  HttpClient idle(server.http_port());
+  ASSERT_TRUE(idle.connected());
+  const auto bytes = idle.bytes_until_closed();
+  ASSERT_TRUE(bytes) << "the idle connection was not closed";
+  EXPECT_EQ(*bytes, "");
+
+  const auto next = http_request(server.http_port(), "GET", "/");
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->result(), http::status::ok);
+}
+
+// Half-sent requests hold HTTP connections: at the HTTP limit one more is
+// closed and counted, and TCP clients, under a limit of their own, are served.
+TEST(HttpEndpoint, HttpConnectionsHaveALimitOfTheirOwn) {
+  net::ServerConfig config = with_http();
+  config.http_limits.max_connections = 2;
+  config.max_connections = 4;
+  TestServer server(kScene, 240, config);
+
+  HttpClient first(server.http_port());
+  HttpClient second(server.http_port());
+  ASSERT_TRUE(first.send_bytes("GET / HTTP/1.1\r\n"));  // half a request each
+  ASSERT_TRUE(second.send_bytes("GET / HTTP/1.1\r\n"));
+  // Connections are accepted in order: the third comes after the two are held.
+  HttpClient third(server.http_port());
+  ASSERT_TRUE(third.connected());
+  const auto bytes = third.bytes_until_closed();
+  ASSERT_TRUE(bytes) << "the connection over the HTTP limit was not closed";
+  EXPECT_EQ(*bytes, "");
+
+  RawClient tcp(server.port());
+  ASSERT_TRUE(tcp.handshake());
+  tumble::v1::ClientMessage stats;
+  stats.set_request_id(2);
+  stats.mutable_get_stats();
+  ASSERT_TRUE(tcp.send(stats));
+  const auto reply = tcp.read_until([](const tumble::v1::ServerMessage& m) { return m.has_stats(); });
+  ASSERT_TRUE(reply);
+  EXPECT_EQ(reply->stats().connections_refused(), 1u);
+
+  // The two held ones are still served once they finish their requests.
+  ASSERT_TRUE(first.send_bytes("Host: 127.0.0.1:" + std::to_string(server.http_port()) + "\r\n\r\n"));
+  const auto served = first.read_response();
+  ASSERT_TRUE(served);
+  EXPECT_EQ(served->result(), http::status::ok);
 }
 
 TEST(HttpEndpoint, IsOffUnlessAskedFor) {

@@ -1,5 +1,6 @@
 // Per-session limits on the in-process server: the handshake timeout, the
-// request rate, and clients that leave replies or frames undelivered.
+// request rate, the error budget, frames that stall, clients that leave
+// replies or frames undelivered, and connections over the server's limit.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -21,7 +22,18 @@ const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
 
 bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
-  return (m.has_error() && m.error().request_id() == id) || (m.has_body_list() && m.body_list().request_id() == id);
+  return (m.has_error() && m.error().request_id() == id) || (m.has_body_list() && m.body_list().request_id() == id) ||
+         (m.has_stats() && m.stats().request_id() == id);
+}
+
+// The server's Stats, asked for by a fresh client.
+tumble::v1::Stats stats_of(std::uint16_t port) {
+  RawClient client(port);
+  EXPECT_TRUE(client.handshake("stats"));
+  EXPECT_TRUE(client.send(get_stats(9)));
+  const auto reply = client.read_until([](const ServerMessage& m) { return is_reply_to(m, 9); });
+  EXPECT_TRUE(reply && reply->has_stats()) << (reply ? reply->DebugString() : "no reply");
+  return reply && reply->has_stats() ? reply->stats() : tumble::v1::Stats{};
 }
 
 // A fresh client handshakes and gets its body list: the server serves.
@@ -172,6 +184,139 @@ TEST(SessionLimits, AClientThatLetsRepliesPileUpIsDisconnected) {
   }
   EXPECT_TRUE(gone || hoarder.closed_by_server(std::chrono::seconds(30)));
   ExpectServing(server.port());
+}
+
+// A stream of junk after Hello (each zero byte is an empty envelope, an
+// UNKNOWN_MESSAGE) draws the error budget's burst of Errors, then one
+// RESOURCE_EXHAUSTED that says why, and a close: not a reply per byte.
+TEST(SessionLimits, AHundredThousandZeroBytesDrawAFewErrorsThenAClose) {
+  TestServer server(kScene, 240);  // the default budget: 100 Errors a second
+  RawClient client(server.port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send_bytes(std::string(100000, '\0')));
+
+  std::size_t unknown = 0;
+  std::size_t reply_bytes = 0;
+  std::optional<ServerMessage> last;
+  while (auto message = client.read()) {
+    reply_bytes += wire::encode_frame(*message).size();
+    ASSERT_TRUE(message->has_error()) << message->DebugString();
+    if (message->error().code() == tumble::v1::UNKNOWN_MESSAGE) ++unknown;
+    last = message;
+    if (message->error().code() != tumble::v1::UNKNOWN_MESSAGE) break;
+  }
+  ASSERT_TRUE(last);
+  EXPECT_EQ(last->error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(last->error().message(), "over the limit of 100 errors per second; the connection is closed");
+  EXPECT_GE(unknown, 100u);  // the burst, and a few more for the time the bytes took to read
+  EXPECT_LE(unknown, 120u);
+  EXPECT_LT(reply_bytes, 12000u);
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_TRUE(client.saw_eof());
+  EXPECT_EQ(stats_of(server.port()).clients_closed_for_errors(), 1u);
+}
+
+// Errors the sim answers (a push on a body that does not exist) are charged too.
+TEST(SessionLimits, ErrorsFromTheWorldCountAgainstTheBudget) {
+  net::SessionLimits limits;
+  limits.errors_per_second = 5;
+  limits.error_burst = 5;
+  TestServer server(kScene, 240, limits);
+  RawClient client(server.port());
+  ASSERT_TRUE(client.handshake());
+  std::string pushes;
+  for (std::uint64_t id = 1; id <= 50; ++id) pushes += wire::encode_frame(force(id, "nobody", 1));
+  ASSERT_TRUE(client.send_bytes(pushes));
+  // The replies to all 50 come from one tick: after the budget's burst, one
+  // RESOURCE_EXHAUSTED is the last Error the client gets.
+  std::vector<ServerMessage> errors;
+  while (auto message = client.read()) {
+    ASSERT_TRUE(message->has_error()) << message->DebugString();
+    errors.push_back(*message);
+  }
+  ASSERT_GE(errors.size(), 6u);
+  EXPECT_EQ(errors.back().error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+  EXPECT_EQ(errors.back().error().message(), "over the limit of 5 errors per second; the connection is closed");
+  errors.pop_back();
+  for (const auto& error : errors) EXPECT_EQ(error.error().code(), tumble::v1::UNKNOWN_BODY);
+  EXPECT_LT(errors.size(), 10u);  // the burst of 5, and a few for the time the replies took
+  EXPECT_TRUE(client.saw_eof());
+}
+
+// A frame whose first bytes came must come whole within the frame timeout;
+// a client that is idle between frames is not touched.
+TEST(SessionLimits, AFrameThatStallsMidwayIsCutOffAndAnIdleClientIsNot) {
+  net::SessionLimits limits;
+  limits.frame_timeout = milliseconds(300);
+  TestServer server(kScene, 240, limits);
+
+  RawClient idle(server.port());
+  ASSERT_TRUE(idle.handshake());
+  RawClient staller(server.port());
+  ASSERT_TRUE(staller.handshake());
+  ASSERT_TRUE(staller.send_bytes("\x20partial"));  // announces 32 bytes, sends 7
+  const auto reply = staller.read(std::chrono::seconds(20));
+  ASSERT_TRUE(reply && reply->has_error()) << (reply ? reply->DebugString() : "no reply");
+  EXPECT_EQ(reply->error().code(), tumble::v1::MALFORMED_FRAME);
+  EXPECT_NE(reply->error().message().find("has 8 bytes and is still incomplete, over the limit of 0.3 s"),
+            std::string::npos)
+      << reply->error().message();
+  EXPECT_TRUE(staller.closed_by_server());
+
+  // The idle client greeted before the staller began its frame: it has been
+  // idle for longer than the frame timeout, and is served.
+  ASSERT_TRUE(idle.send(list_bodies(2)));
+  const auto list = idle.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(list && list->has_body_list());
+}
+
+// Over max_connections every client is told why, however many are being
+// refused at once, up to the bound on pending refusals.
+TEST(SessionLimits, EveryConnectionOverTheLimitIsToldWhy) {
+  net::ServerConfig config;
+  config.max_connections = 1;
+  TestServer server(kScene, 240, config);
+  RawClient member(server.port());
+  ASSERT_TRUE(member.handshake());
+
+  // Three at once, none of which reads or closes before the last is refused.
+  std::vector<std::unique_ptr<RawClient>> extras;
+  for (int i = 0; i < 3; ++i) extras.push_back(std::make_unique<RawClient>(server.port()));
+  for (auto& extra : extras) {
+    const auto reply = extra->read();
+    ASSERT_TRUE(reply && reply->has_error()) << (reply ? reply->DebugString() : "no reply");
+    EXPECT_EQ(reply->error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+    EXPECT_EQ(reply->error().message(), "the server is at its limit of 1 connections; try again later");
+  }
+  extras.clear();
+  ASSERT_TRUE(member.send(get_stats(2)));
+  const auto stats = member.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(stats && stats->has_stats());
+  EXPECT_EQ(stats->stats().connections_refused(), 3u);
+}
+
+// Beyond the bound on refusals being written, a connection is closed
+// without a word, and counted all the same.
+TEST(SessionLimits, BeyondThePendingRefusalsAConnectionIsClosedAndCounted) {
+  net::ServerConfig config;
+  config.max_connections = 1;
+  config.max_pending_refusals = 1;
+  TestServer server(kScene, 240, config);
+  RawClient member(server.port());
+  ASSERT_TRUE(member.handshake());
+
+  RawClient told(server.port());  // reads its refusal and keeps the connection: the refusal lingers
+  const auto reply = told.read();
+  ASSERT_TRUE(reply && reply->has_error());
+  EXPECT_EQ(reply->error().code(), tumble::v1::RESOURCE_EXHAUSTED);
+  RawClient untold(server.port());
+  EXPECT_FALSE(untold.read(std::chrono::seconds(10))) << "a refusal was written past the bound";
+  EXPECT_TRUE(untold.saw_eof());
+
+  ASSERT_TRUE(member.send(get_stats(2)));
+  const auto stats = member.read_until([](const ServerMessage& m) { return is_reply_to(m, 2); });
+  ASSERT_TRUE(stats && stats->has_stats());
+  EXPECT_EQ(stats->stats().connections_refused(), 2u);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "http_client.h"
 #include "protocol_checks.h"
 #include "raw_client.h"
 #include "replies.h"
@@ -215,6 +216,69 @@ TEST_F(WebSocketTest, APageOfAnotherOriginIsRefused) {
   WsClient own(server_.http_port(), "http://127.0.0.1:" + std::to_string(server_.http_port()));
   ASSERT_TRUE(own.connected());
   const auto welcome = own.handshake();
+  EXPECT_TRUE(welcome && welcome->has_welcome());
+}
+
+// A frame over --max-frame-bytes is refused from its length prefix, and the
+// close frame says the message was too big (1009).
+TEST_F(WebSocketTest, AFrameOverTheLimitClosesWithMessageTooBig) {
+  WsClient client(server_.http_port());
+  ASSERT_TRUE(client.handshake());
+  ASSERT_TRUE(client.send_bytes(std::string("\x80\x80\x80\x01", 4)));  // announces 2 MiB, over the 1 MiB default
+  const auto reply = client.read();
+  ASSERT_TRUE(reply && reply->has_error()) << (reply ? reply->DebugString() : "no reply");
+  EXPECT_EQ(reply->error().code(), tumble::v1::FRAME_TOO_LARGE);
+  EXPECT_TRUE(client.closed_by_server());
+  ASSERT_TRUE(client.got_close_frame());
+  EXPECT_EQ(client.close_reason().code, websocket::close_code::too_big);
+  EXPECT_EQ(std::string(client.close_reason().reason), reply->error().message());
+}
+
+// RFC 6455 5.2: a 64-bit payload length must have its most significant bit
+// clear. Such a frame header gets MALFORMED_FRAME in a binary message, a
+// close frame of 1002 with the reason, and the end of the connection, byte
+// for byte; no payload is waited for.
+TEST_F(WebSocketTest, AFrameLengthWithItsTopBitSetIsAProtocolError) {
+  HttpClient socket(server_.http_port());
+  ASSERT_TRUE(socket.send_request("GET", "/ws",
+                                  "Connection: Upgrade\r\nUpgrade: websocket\r\nSec-WebSocket-Version: 13\r\n"
+                                  "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"));
+  const auto upgraded = socket.read_response();
+  ASSERT_TRUE(upgraded);
+  ASSERT_EQ(upgraded->result_int(), 101u);
+  // A masked binary frame that announces 2^63 bytes, and a few of them.
+  ASSERT_TRUE(
+      socket.send_bytes(std::string("\x82\xff\x80\x00\x00\x00\x00\x00\x00\x00", 10) + std::string(4, '\0') + "0123"));
+
+  const auto received = socket.bytes_until_closed();
+  ASSERT_TRUE(received) << "the server did not close the connection";
+  std::size_t at = 0;
+  // The Error, in one binary message.
+  ASSERT_GE(received->size(), at + 2);
+  ASSERT_EQ(static_cast<unsigned char>((*received)[at]), 0x82);
+  const std::size_t error_size = static_cast<unsigned char>((*received)[at + 1]);
+  ASSERT_LT(error_size, 126u);
+  wire::FrameReader reader;
+  reader.append(received->data() + at + 2, error_size);
+  std::string_view body;
+  ASSERT_EQ(reader.next(body), wire::FrameStatus::frame);
+  ServerMessage error;
+  ASSERT_TRUE(error.ParseFromArray(body.data(), static_cast<int>(body.size())));
+  ASSERT_TRUE(error.has_error()) << error.DebugString();
+  EXPECT_EQ(error.error().code(), tumble::v1::MALFORMED_FRAME);
+  const std::string sentence =
+      "a WebSocket frame's 64-bit payload length has its most significant bit set, which RFC 6455 section 5.2 "
+      "forbids";
+  EXPECT_EQ(error.error().message(), sentence);
+  at += 2 + error_size;
+  // The close frame: 1002 (protocol error) and the sentence, cut to 123 bytes.
+  const std::string reason = sentence.substr(0, 123);
+  const std::string close = std::string("\x88", 1) + static_cast<char>(2 + reason.size()) + "\x03\xea" + reason;
+  EXPECT_EQ(received->substr(at), close);
+
+  // The server serves on.
+  WsClient next(server_.http_port());
+  const auto welcome = next.handshake();
   EXPECT_TRUE(welcome && welcome->has_welcome());
 }
 

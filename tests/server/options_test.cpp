@@ -58,6 +58,9 @@ TEST_F(ServerOptionsTest, Defaults) {
   EXPECT_EQ(options.port_file, "");
   EXPECT_FALSE(options.http.has_value());
   EXPECT_EQ(options.http_port_file, "");
+  EXPECT_EQ(options.max_http_connections, 64u);
+  EXPECT_EQ(options.http_header_timeout_seconds, 10);
+  EXPECT_TRUE(options.http_allowed_hosts.empty());
   EXPECT_EQ(options.scene_path, "");
   EXPECT_EQ(options.tick_rate_hz, 240);
   EXPECT_EQ(options.max_bodies, 100000u);
@@ -66,7 +69,9 @@ TEST_F(ServerOptionsTest, Defaults) {
   EXPECT_EQ(options.max_pending_bytes, std::size_t{8} << 20);
   EXPECT_EQ(options.max_connections, 1024u);
   EXPECT_EQ(options.max_commands_per_second, 1000u);
+  EXPECT_EQ(options.max_errors_per_second, 100u);
   EXPECT_EQ(options.handshake_timeout_seconds, 10);
+  EXPECT_EQ(options.frame_timeout_seconds, 10);
   EXPECT_EQ(options.max_undelivered_seconds, 10);
   EXPECT_EQ(options.tokens.controller, "");
   EXPECT_EQ(options.tokens.observer, "");
@@ -88,6 +93,12 @@ TEST_F(ServerOptionsTest, EveryFlagIsRead) {
                                             "0.0.0.0:8081",
                                             "--http-port-file",
                                             "/run/http-port",
+                                            "--max-http-connections",
+                                            "16",
+                                            "--http-header-timeout",
+                                            "2.5",
+                                            "--http-allowed-hosts",
+                                            "viewer.example,lab.example:9000",
                                             "--scene",
                                             "scenes/pile.json",
                                             "--tick-rate",
@@ -104,8 +115,12 @@ TEST_F(ServerOptionsTest, EveryFlagIsRead) {
                                             "8",
                                             "--max-commands-per-second",
                                             "20",
+                                            "--max-errors-per-second",
+                                            "7",
                                             "--handshake-timeout",
                                             "0.5",
+                                            "--frame-timeout",
+                                            "1.5",
                                             "--max-undelivered-seconds",
                                             "2.5",
                                             "--token",
@@ -130,6 +145,9 @@ TEST_F(ServerOptionsTest, EveryFlagIsRead) {
   EXPECT_EQ(options.http->host, "0.0.0.0");
   EXPECT_EQ(options.http->port, 8081);
   EXPECT_EQ(options.http_port_file, "/run/http-port");
+  EXPECT_EQ(options.max_http_connections, 16u);
+  EXPECT_EQ(options.http_header_timeout_seconds, 2.5);
+  EXPECT_EQ(options.http_allowed_hosts, (std::vector<std::string>{"viewer.example", "lab.example:9000"}));
   EXPECT_EQ(options.scene_path, "scenes/pile.json");
   EXPECT_EQ(options.tick_rate_hz, 120.5);
   EXPECT_EQ(options.max_bodies, 50u);
@@ -138,7 +156,9 @@ TEST_F(ServerOptionsTest, EveryFlagIsRead) {
   EXPECT_EQ(options.max_pending_bytes, 65536u);
   EXPECT_EQ(options.max_connections, 8u);
   EXPECT_EQ(options.max_commands_per_second, 20u);
+  EXPECT_EQ(options.max_errors_per_second, 7u);
   EXPECT_EQ(options.handshake_timeout_seconds, 0.5);
+  EXPECT_EQ(options.frame_timeout_seconds, 1.5);
   EXPECT_EQ(options.max_undelivered_seconds, 2.5);
   EXPECT_EQ(options.tokens.controller, "ctl");
   EXPECT_EQ(options.tokens.observer, "obs");
@@ -183,6 +203,15 @@ TEST_F(ServerOptionsTest, NumbersOutOfRange) {
   EXPECT_EQ(usage_error({"--max-connections", "0"}), "--max-connections: Value 0 not in range 1 to 1000000");
   EXPECT_EQ(usage_error({"--max-commands-per-second", "0"}),
             "--max-commands-per-second: Value 0 not in range 1 to 1000000000");
+  EXPECT_EQ(usage_error({"--max-errors-per-second", "0"}),
+            "--max-errors-per-second: Value 0 not in range 1 to 1000000000");
+  EXPECT_EQ(usage_error({"--frame-timeout", "0"}), "--frame-timeout: Value 0 not in range 0.001000 to 86400.000000");
+  EXPECT_EQ(usage_error({"--http", "127.0.0.1:0", "--max-http-connections", "0"}),
+            "--max-http-connections: Value 0 not in range 1 to 1000000");
+  EXPECT_EQ(usage_error({"--http", "127.0.0.1:0", "--http-header-timeout", "86401"}),
+            "--http-header-timeout: Value 86401 not in range 0.001000 to 86400.000000");
+  EXPECT_EQ(usage_error({"--http", "127.0.0.1:0", "--http-allowed-hosts", "a,http://b:8080"}),
+            "--http-allowed-hosts: 'http://b:8080' is not a host name: give NAME, NAME:PORT or *");
   EXPECT_EQ(usage_error({"--handshake-timeout", "0"}),
             "--handshake-timeout: Value 0 not in range 0.001000 to 86400.000000");
   EXPECT_EQ(usage_error({"--max-undelivered-seconds", "86401"}),
@@ -205,6 +234,9 @@ TEST_F(ServerOptionsTest, WordsWhereNumbersOrLevelsBelong) {
 TEST_F(ServerOptionsTest, FlagsThatNeedOrExcludeOthers) {
   EXPECT_EQ(usage_error({"--checkpoint-interval", "1"}), "--checkpoint-interval requires --state");
   EXPECT_EQ(usage_error({"--http-port-file", "/tmp/x"}), "--http-port-file requires --http");
+  EXPECT_EQ(usage_error({"--max-http-connections", "8"}), "--max-http-connections requires --http");
+  EXPECT_EQ(usage_error({"--http-header-timeout", "5"}), "--http-header-timeout requires --http");
+  EXPECT_EQ(usage_error({"--http-allowed-hosts", "viewer.example"}), "--http-allowed-hosts requires --http");
   EXPECT_EQ(usage_error({"--record", "a.journal", "--replay", "b.journal"}), "--record excludes --replay");
 }
 

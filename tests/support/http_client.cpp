@@ -2,6 +2,7 @@
 
 #include <array>
 
+#include <boost/beast/core/buffers_to_string.hpp>
 #include <boost/beast/http/parser.hpp>
 #include <boost/beast/http/read.hpp>
 
@@ -88,6 +89,33 @@ bool HttpClient::closed_by_server(std::chrono::milliseconds timeout) {
       return false;
     }
     if (result) return result != asio::error::operation_aborted;
+  }
+}
+
+std::optional<std::string> HttpClient::bytes_until_closed(std::chrono::milliseconds timeout) {
+  const auto deadline = Clock::now() + timeout;
+  std::string bytes = beast::buffers_to_string(buffer_.data());
+  buffer_.consume(buffer_.size());
+  std::array<char, 4096> chunk{};
+  for (;;) {
+    bool done = false;
+    boost::system::error_code result;
+    std::size_t got = 0;
+    stream_.async_read_some(asio::buffer(chunk), [&](const boost::system::error_code& error, std::size_t n) {
+      result = error;
+      got = n;
+      done = true;
+    });
+    if (!run_until(io_, done, deadline)) {
+      stream_.cancel();
+      run_until(io_, done, Clock::now() + std::chrono::seconds(10));
+      return std::nullopt;
+    }
+    bytes.append(chunk.data(), got);
+    if (result) {
+      if (result == asio::error::operation_aborted) return std::nullopt;
+      return bytes;
+    }
   }
 }
 

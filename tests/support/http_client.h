@@ -45,6 +45,11 @@ class HttpClient {
   // arrives first is discarded.
   bool closed_by_server(std::chrono::milliseconds timeout = std::chrono::seconds(10));
 
+  // Every byte the server sends until it closes the connection (those a
+  // read_response() left over first), or nullopt when it does not close
+  // within `timeout`: for what follows a WebSocket upgrade, byte for byte.
+  std::optional<std::string> bytes_until_closed(std::chrono::milliseconds timeout = std::chrono::seconds(10));
+
  private:
   boost::asio::io_context io_;
   boost::beast::tcp_stream stream_{io_};
