@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "sim/body_limits.h"
 #include "sim/body_spec.h"
 
 namespace tumble::sim {
@@ -31,6 +32,13 @@ std::optional<RequestError> check_quat(const tumble::v1::Quat& q, const char* fi
   if (std::isfinite(norm) && std::abs(norm - 1.0) <= 1e-3) return std::nullopt;
   return invalid(std::string(field) + " must be a unit quaternion [w, x, y, z], got [" + std::to_string(q.w()) + ", " +
                  std::to_string(q.x()) + ", " + std::to_string(q.y()) + ", " + std::to_string(q.z()) + "]");
+}
+
+// A body's pose or velocity, held to the same ranges as a spawned body's (body_limits.h).
+std::optional<RequestError> check_body_vec3(const tumble::v1::Vec3& v, const char* unit, const char* field) {
+  const Status status = check_magnitude(v, unit, field);
+  if (status.ok()) return std::nullopt;
+  return invalid(status.message());
 }
 
 std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool present) {
@@ -125,10 +133,15 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
     case ClientMessage::kSetBodyState: {
       const auto& m = message.set_body_state();
       if ((error = check_body_ref(m.body(), m.has_body()))) return error;
-      if (m.has_position() && (error = check_vec3(m.position(), "position"))) return error;
+      // SetBodyState changes no mass or shape: those are fixed when a body is made.
+      if (m.has_position() && (error = check_body_vec3(m.position(), "m", "position"))) return error;
       if (m.has_orientation() && (error = check_quat(m.orientation(), "orientation"))) return error;
-      if (m.has_linear_velocity() && (error = check_vec3(m.linear_velocity(), "linear_velocity"))) return error;
-      if (m.has_angular_velocity() && (error = check_vec3(m.angular_velocity(), "angular_velocity"))) return error;
+      if (m.has_linear_velocity() && (error = check_body_vec3(m.linear_velocity(), "m/s", "linear_velocity"))) {
+        return error;
+      }
+      if (m.has_angular_velocity() && (error = check_body_vec3(m.angular_velocity(), "rad/s", "angular_velocity"))) {
+        return error;
+      }
       return std::nullopt;
     }
     case ClientMessage::kClearForces: {
