@@ -211,6 +211,7 @@ std::string format_stats(const tumble::v1::Stats& stats) {
       {"overruns", std::to_string(stats.overruns())},
       {"bodies", std::to_string(stats.bodies()) + " (" + std::to_string(stats.bodies_awake()) + " awake, " +
                      std::to_string(stats.bodies_asleep()) + " asleep)"},
+      {"bodies diverged", std::to_string(stats.bodies_diverged())},
       {"clients", std::to_string(stats.clients())},
       {"bytes sent", std::to_string(stats.bytes_sent())},
   };
@@ -238,6 +239,7 @@ Json stats_json(const tumble::v1::Stats& stats) {
   out["bodies"] = stats.bodies();
   out["bodies_awake"] = stats.bodies_awake();
   out["bodies_asleep"] = stats.bodies_asleep();
+  out["bodies_diverged"] = stats.bodies_diverged();
   out["clients"] = stats.clients();
   out["bytes_sent"] = stats.bytes_sent();
   return out;
@@ -255,6 +257,8 @@ std::string event_kind_name(tumble::v1::WorldEventKind kind) {
       return "awake";
     case tumble::v1::WORLD_EVENT_WORLD_RESET:
       return "reset";
+    case tumble::v1::WORLD_EVENT_BODY_DIVERGED:
+      return "diverged";
     default:
       break;
   }

@@ -55,16 +55,16 @@ std::string format_stepped(const tumble::v1::Ack& ack);
 
 // One "label  value" line per figure: tick, sim time, paused, tick rate,
 // real-time factor, tick time p50/p99, tick CPU p50/p99, late start
-// p50/p99 (ms), overruns, bodies (awake, asleep), clients, bytes sent.
+// p50/p99 (ms), overruns, bodies (awake, asleep), bodies diverged, clients, bytes sent.
 std::string format_stats(const tumble::v1::Stats& stats);
 
 // {"tick", "sim_time", "paused", "tick_rate_hz", "real_time_factor",
 // "tick_ms_p50", "tick_ms_p99", "tick_cpu_ms_p50", "tick_cpu_ms_p99",
 // "tick_start_late_ms_p50", "tick_start_late_ms_p99", "overruns",
-// "bodies", "bodies_awake", "bodies_asleep", "clients", "bytes_sent"}.
+// "bodies", "bodies_awake", "bodies_asleep", "bodies_diverged", "clients", "bytes_sent"}.
 Json stats_json(const tumble::v1::Stats& stats);
 
-// "spawned", "removed", "asleep", "awake" or "reset"; "" for an unknown kind.
+// "spawned", "removed", "asleep", "awake", "reset" or "diverged"; "" for an unknown kind.
 std::string event_kind_name(tumble::v1::WorldEventKind kind);
 
 // "tick 1234  spawned  crate (#7)\n", or "tick 1234  reset\n".

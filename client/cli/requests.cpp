@@ -64,7 +64,7 @@ tumble::v1::Subscribe make_subscribe(const SubscribeCommand& command) {
   if (command.events) {
     for (const auto kind : {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED,
                             tumble::v1::WORLD_EVENT_BODY_ASLEEP, tumble::v1::WORLD_EVENT_BODY_AWAKE,
-                            tumble::v1::WORLD_EVENT_WORLD_RESET}) {
+                            tumble::v1::WORLD_EVENT_WORLD_RESET, tumble::v1::WORLD_EVENT_BODY_DIVERGED}) {
       request.add_events(kind);
     }
   }

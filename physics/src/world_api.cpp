@@ -75,6 +75,7 @@ std::size_t World::contact_count() const { return impl_->contact_count(); }
 std::size_t World::contact_point_count() const { return impl_->contact_point_count(); }
 double World::max_penetration() const { return impl_->max_penetration(); }
 const StepStats& World::last_step_stats() const { return impl_->last_step_stats(); }
+std::span<const BodyId> World::diverged_bodies() const { return impl_->diverged_bodies(); }
 void World::step(double dt) { impl_->step(dt); }
 
 }  // namespace tumble::physics

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "aabb.h"
@@ -84,6 +85,7 @@ class World::Impl {
   std::size_t contact_point_count() const;
   double max_penetration() const;
   const StepStats& last_step_stats() const { return stats_; }
+  std::span<const BodyId> diverged_bodies() const { return diverged_; }
   void step(double dt);
 
  private:
@@ -148,6 +150,9 @@ class World::Impl {
   void integrate_velocities(double dt);
   void solve_contacts(double dt);
   void integrate_positions(double dt);
+  // True when the state of the body at dense index i has a component
+  // beyond `limit` in magnitude or not finite (WorldSettings::max_state_magnitude).
+  bool diverged(std::size_t i, double limit) const;
 
   // Sleep (island.cpp).
   void update_sleep(double dt);
@@ -217,6 +222,7 @@ class World::Impl {
   bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
 
   StepStats stats_;
+  std::vector<BodyId> diverged_;  // diverged_bodies() of the last step
 };
 
 }  // namespace tumble::physics

@@ -1,5 +1,6 @@
 // World::step: the pipeline described in world.h.
 #include <cmath>
+#include <limits>
 
 #include "integrator.h"
 #include "rotation.h"
@@ -20,10 +21,21 @@ int substeps_for(double dt) {
   return needed > kMaxDefaultSubsteps ? kMaxDefaultSubsteps : static_cast<int>(needed);
 }
 
+// True when some component of v is beyond limit in magnitude or not
+// finite: the comparison is false for NaN, and infinity exceeds any finite limit.
+template <typename Vector>
+bool beyond(const Vector& v, double limit) {
+  for (Eigen::Index k = 0; k < v.size(); ++k) {
+    if (!(std::abs(v[k]) <= limit)) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void World::Impl::step(double dt) {
   stats_ = StepStats{};
+  diverged_.clear();
   if (!(dt > 0)) {
     for (BodyState& state : states_) {
       state.force.setZero();
@@ -112,6 +124,9 @@ void World::Impl::integrate_positions(double dt) {
       state.orientation = (quat_from_rotation_vector(pseudo.angular * dt) * state.orientation).normalized();
     }
   }
+  // The divergence guard's bound; an infinite setting still catches what is not finite.
+  const double limit =
+      std::isfinite(settings_.max_state_magnitude) ? settings_.max_state_magnitude : std::numeric_limits<double>::max();
   for (std::size_t i = 0; i < states_.size(); ++i) {
     if (!awake_[i]) continue;
     const BodyRecord& record = records_[i];
@@ -126,7 +141,19 @@ void World::Impl::integrate_positions(double dt) {
     }
     transforms_[i] = Transform{state.position, state.orientation.toRotationMatrix()};
     ++stats_.integrated_bodies;
+    // Checked here, while the state is in cache: only a body that moved can have diverged.
+    if (diverged(i, limit)) diverged_.push_back(dense_to_id_[i]);
   }
+}
+
+bool World::Impl::diverged(std::size_t i, double limit) const {
+  // The velocities are the step's (v = P / M, w = I^-1 L, or the solver's);
+  // the momenta they came from need only be finite.
+  constexpr double kFinite = std::numeric_limits<double>::max();
+  const BodyState& state = states_[i];
+  return beyond(state.position, limit) || beyond(state.orientation.coeffs(), kFinite) ||
+         beyond(velocities_[i].linear, limit) || beyond(velocities_[i].angular, limit) ||
+         beyond(state.linear_momentum, kFinite) || beyond(state.angular_momentum, kFinite);
 }
 
 }  // namespace tumble::physics

@@ -21,6 +21,8 @@ tumble::v1::WorldEventKind wire_kind(sim::WorldEventKind kind) {
       return tumble::v1::WORLD_EVENT_BODY_AWAKE;
     case sim::WorldEventKind::world_reset:
       return tumble::v1::WORLD_EVENT_WORLD_RESET;
+    case sim::WorldEventKind::body_diverged:
+      return tumble::v1::WORLD_EVENT_BODY_DIVERGED;
   }
   return tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED;
 }

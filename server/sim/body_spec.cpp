@@ -1,10 +1,12 @@
 #include "sim/body_spec.h"
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
 
+#include "sim/body_limits.h"
 #include "sim/string_limits.h"
 #include "tumble/physics/convex_hull.h"
 #include "tumble/physics/mass_properties.h"
@@ -15,17 +17,10 @@ namespace {
 
 bool within_limits(double value) { return std::isfinite(value) && std::abs(value) <= kMaxMagnitude; }
 
-Status check_vec3(const tumble::v1::Vec3& v, const std::string& path) {
-  if (within_limits(v.x()) && within_limits(v.y()) && within_limits(v.z())) return {};
-  return Status::error(path + ": components must be finite and at most 1e9 in magnitude");
-}
-
-Status check_positive(double value, const std::string& path) {
-  if (within_limits(value) && value > 0) return {};
-  return Status::error(path + ": must be a positive finite number");
-}
-
 physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+// A point mass's offset from the body's origin: each component within the largest size.
+constexpr Range kPointOffsetRange{-kSizeRange.max, kSizeRange.max, "m"};
 
 }  // namespace
 
@@ -62,9 +57,10 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
   // Static and kinematic bodies have infinite mass; a mass given for them is
   // ignored.
   if (dynamic && shape.kind_case() != tumble::v1::Shape::kPoints) {
-    if (!(status = check_positive(spec.mass(), where + ".mass")).ok()) return status;
+    if (!(status = check_range(spec.mass(), kMassRange, where + ".mass")).ok()) return status;
   }
   const double mass = dynamic ? spec.mass() : 1.0;
+  double volume = 0;  // m^3 of a solid shape, for its density; 0 for point masses
 
   if (spec.has_friction()) {
     if (!within_limits(spec.friction()) || spec.friction() < 0) {
@@ -83,9 +79,10 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
     case tumble::v1::Shape::kBox: {
       const auto& h = shape.box().half_extents();
       const std::string path = shape_path + ".box.half_extents";
-      for (double component : {h.x(), h.y(), h.z()}) {
-        if (!(status = check_positive(component, path)).ok()) return status;
-      }
+      if (!(status = check_range(h.x(), kSizeRange, path + ".x")).ok()) return status;
+      if (!(status = check_range(h.y(), kSizeRange, path + ".y")).ok()) return status;
+      if (!(status = check_range(h.z(), kSizeRange, path + ".z")).ok()) return status;
+      volume = 8 * h.x() * h.y() * h.z();
       desc->shape.type = physics::ShapeType::box;
       desc->shape.half_extents = to_vec3(h);
       desc->mass_properties = physics::box_mass_properties(mass, desc->shape.half_extents);
@@ -93,7 +90,8 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
     }
     case tumble::v1::Shape::kSphere: {
       const double radius = shape.sphere().radius();
-      if (!(status = check_positive(radius, shape_path + ".sphere.radius")).ok()) return status;
+      if (!(status = check_range(radius, kSizeRange, shape_path + ".sphere.radius")).ok()) return status;
+      volume = 4.0 / 3.0 * std::numbers::pi * radius * radius * radius;
       desc->shape.type = physics::ShapeType::sphere;
       desc->shape.radius = radius;
       desc->mass_properties = physics::sphere_mass_properties(mass, radius);
@@ -101,10 +99,11 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
     }
     case tumble::v1::Shape::kCapsule: {
       const auto& capsule = shape.capsule();
-      if (!(status = check_positive(capsule.radius(), shape_path + ".capsule.radius")).ok()) return status;
-      if (!within_limits(capsule.half_height()) || capsule.half_height() < 0) {
-        return Status::error(shape_path + ".capsule.half_height: must be a finite number >= 0");
-      }
+      const double r = capsule.radius();
+      if (!(status = check_range(r, kSizeRange, shape_path + ".capsule.radius")).ok()) return status;
+      const std::string half_height = shape_path + ".capsule.half_height";
+      if (!(status = check_range(capsule.half_height(), kHalfHeightRange, half_height)).ok()) return status;
+      volume = std::numbers::pi * r * r * (2 * capsule.half_height() + 4.0 / 3.0 * r);
       desc->shape.type = physics::ShapeType::capsule;
       desc->shape.radius = capsule.radius();
       desc->shape.half_height = capsule.half_height();
@@ -123,8 +122,12 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       double total = 0;
       for (int i = 0; i < points.masses_size(); ++i) {
         const std::string index = "[" + std::to_string(i) + "]";
-        if (!(status = check_positive(points.masses(i), path + ".masses" + index)).ok()) return status;
-        if (!(status = check_vec3(points.positions(i), path + ".positions" + index)).ok()) return status;
+        if (!(status = check_range(points.masses(i), kMassRange, path + ".masses" + index)).ok()) return status;
+        const tumble::v1::Vec3& p = points.positions(i);
+        const std::string position = path + ".positions" + index;
+        if (!(status = check_range(p.x(), kPointOffsetRange, position + ".x")).ok()) return status;
+        if (!(status = check_range(p.y(), kPointOffsetRange, position + ".y")).ok()) return status;
+        if (!(status = check_range(p.z(), kPointOffsetRange, position + ".z")).ok()) return status;
         masses.push_back(points.masses(i));
         positions.push_back(to_vec3(points.positions(i)));
         total += points.masses(i);
@@ -134,6 +137,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
         return Status::error(where + ".mass: " + std::to_string(spec.mass()) +
                              " differs from the sum of the point masses " + std::to_string(total));
       }
+      if (!(status = check_range(total, kMassRange, path + ".masses (their sum)")).ok()) return status;
       desc->shape.type = physics::ShapeType::none;
       desc->mass_properties = physics::point_mass_properties(masses, positions);
       // A rigid set of points needs three non-collinear points for a
@@ -148,7 +152,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       const std::string path = shape_path + ".plane";
       physics::Vec3 normal = physics::Vec3::UnitY();
       if (shape.plane().has_normal()) {
-        if (!(status = check_vec3(shape.plane().normal(), path + ".normal")).ok()) return status;
+        if (!(status = check_magnitude(shape.plane().normal(), "", path + ".normal")).ok()) return status;
         normal = to_vec3(shape.plane().normal());
         if (normal.norm() < 1e-9) return Status::error(path + ".normal: must not be zero");
         normal.normalize();
@@ -171,7 +175,7 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       std::vector<physics::Vec3> cloud;
       cloud.reserve(static_cast<std::size_t>(points.size()));
       for (int i = 0; i < points.size(); ++i) {
-        if (!(status = check_vec3(points[i], path + "[" + std::to_string(i) + "]")).ok()) return status;
+        if (!(status = check_magnitude(points[i], "m", path + "[" + std::to_string(i) + "]")).ok()) return status;
         cloud.push_back(to_vec3(points[i]));
       }
       const auto hull = physics::build_convex_hull(cloud);
@@ -180,6 +184,8 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       // centre of mass, so the shape must be centred on it.
       const physics::MassProperties uncentred = physics::convex_hull_mass_properties(*hull, mass);
       const auto centred = physics::translate_convex_hull(*hull, -uncentred.center);
+      if (!(status = check_hull_size(*centred, path)).ok()) return status;
+      volume = hull_volume(*centred);
       desc->shape = physics::convex_hull_shape(centred);
       desc->mass_properties = physics::convex_hull_mass_properties(*centred, mass);
       break;
@@ -188,21 +194,14 @@ Status body_desc_from_spec(const tumble::v1::BodySpec& spec, const std::string& 
       break;
   }
   if (dynamic) {
-    // Sizes and masses that pass the checks above can still be so small
-    // that the inertia tensor underflows to a singular one (a capsule of
-    // radius 1e-200 has moments of about 1e-400, that is 0), or that its
-    // inverse or the inverse mass overflows; the engine steps with both.
-    const physics::MassProperties& props = desc->mass_properties;
-    const Eigen::SelfAdjointEigenSolver<physics::Mat3> moments(props.inertia, Eigen::EigenvaluesOnly);
-    const double smallest = props.inertia.allFinite() ? moments.eigenvalues().minCoeff() : 0.0;
-    if (!(smallest > 0 && std::isfinite(1.0 / smallest) && std::isfinite(1.0 / props.mass))) {
-      return Status::error(where + ": too small or too light: its inertia cannot be inverted");
-    }
+    // Mass and sizes within their ranges can still make a body too dense,
+    // too lopsided or (point masses) too light to turn.
+    if (!(status = check_mass_properties(desc->mass_properties, volume, where)).ok()) return status;
   }
 
-  if (!(status = check_vec3(spec.position(), where + ".position")).ok()) return status;
-  if (!(status = check_vec3(spec.linear_velocity(), where + ".linear_velocity")).ok()) return status;
-  if (!(status = check_vec3(spec.angular_velocity(), where + ".angular_velocity")).ok()) return status;
+  if (!(status = check_magnitude(spec.position(), "m", where + ".position")).ok()) return status;
+  if (!(status = check_magnitude(spec.linear_velocity(), "m/s", where + ".linear_velocity")).ok()) return status;
+  if (!(status = check_magnitude(spec.angular_velocity(), "rad/s", where + ".angular_velocity")).ok()) return status;
   desc->position = to_vec3(spec.position());
   desc->linear_velocity = to_vec3(spec.linear_velocity());
   desc->angular_velocity = to_vec3(spec.angular_velocity());

@@ -1,23 +1,21 @@
 // Turns a tumble.v1.BodySpec (from a scene file or a client) into the
 // physics engine's BodyDesc, checking that it describes a real body: a name
-// within the limits of sim/string_limits.h, positive mass and sizes, a unit orientation, finite numbers, friction >= 0
-// and restitution in [0, 1]. Planes must be static and point masses dynamic;
+// within the limits of string_limits.h; mass, sizes, moments of inertia,
+// density, position and velocities within the ranges of body_limits.h; a
+// unit orientation, friction >= 0 and restitution in [0, 1]. Planes must be
+// static and point masses dynamic;
 // static and kinematic bodies need no mass. A convex shape is re-centred on
 // its centre of mass.
 #pragma once
 
 #include <string>
 
+#include "sim/body_limits.h"
 #include "sim/status.h"
 #include "tumble/physics/body.h"
 #include "tumble/v1/scene.pb.h"
 
 namespace tumble::sim {
-
-// Largest magnitude accepted for any coordinate, size, velocity, force or
-// mass. Values beyond it are surely a mistake and would overflow the state
-// within a few steps.
-inline constexpr double kMaxMagnitude = 1e9;
 
 // Most points accepted for a convex shape: the hull is built in O(n^2) at
 // load time, and a bigger cloud is surely a mesh sent by mistake.

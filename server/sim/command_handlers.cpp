@@ -238,10 +238,7 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   return reply;
 }
 
-ServerMessage Simulation::remove_body(const ClientMessage& message) {
-  const auto& ref = message.remove_body().body();
-  const physics::BodyId id = directory_.resolve(ref);
-  if (id == physics::kInvalidBodyId) return unknown_body(message, ref);
+void Simulation::remove_from_world(physics::BodyId id, std::uint64_t tick) {
   const std::string name = directory_.name_of(id);
   world_.remove_body(id);
   loads_.remove_body(id);
@@ -250,8 +247,40 @@ ServerMessage Simulation::remove_body(const ClientMessage& message) {
     directory_.remove(id);
   }
   refresh_body_count();
-  const std::uint64_t tick = edit_tick();
   events_.push_back({tick, WorldEventKind::body_removed, id, name});
+}
+
+void Simulation::remove_diverged() {
+  // At most this many log lines a step; a step that loses more says how many.
+  constexpr std::size_t kLoggedPerStep = 8;
+  // A copy: the world's list is valid only until it changes.
+  const std::vector<physics::BodyId> diverged(world_.diverged_bodies().begin(), world_.diverged_bodies().end());
+  for (std::size_t i = 0; i < diverged.size(); ++i) {
+    const physics::BodyId id = diverged[i];
+    if (i < kLoggedPerStep) {
+      // The id, not the name: a name is the client's text. The events carry the name.
+      const physics::Vec3& x = world_.position(id);
+      const physics::Vec3 v = world_.linear_velocity(id);
+      sim_log().warn(
+          "removed body {} at tick {}: its state diverged (position [{}, {}, {}] m, velocity [{}, {}, {}] "
+          "m/s)",
+          id, next_tick_, x.x(), x.y(), x.z(), v.x(), v.y(), v.z());
+    }
+    events_.push_back({next_tick_, WorldEventKind::body_diverged, id, directory_.name_of(id)});
+    remove_from_world(id, next_tick_);
+  }
+  if (diverged.size() > kLoggedPerStep) {
+    sim_log().warn("removed {} bodies in all at tick {}: their states diverged", diverged.size(), next_tick_);
+  }
+  bodies_diverged_ += diverged.size();
+}
+
+ServerMessage Simulation::remove_body(const ClientMessage& message) {
+  const auto& ref = message.remove_body().body();
+  const physics::BodyId id = directory_.resolve(ref);
+  if (id == physics::kInvalidBodyId) return unknown_body(message, ref);
+  const std::uint64_t tick = edit_tick();
+  remove_from_world(id, tick);
   edited_ = true;
   return ack_reply(message, tick);
 }
@@ -379,6 +408,7 @@ ServerMessage Simulation::stats(const ClientMessage& message) const {
   stats.set_bodies(static_cast<std::uint32_t>(world_.body_count()));
   stats.set_bodies_awake(static_cast<std::uint32_t>(world_.awake_body_count()));
   stats.set_bodies_asleep(static_cast<std::uint32_t>(world_.sleeping_body_count()));
+  stats.set_bodies_diverged(bodies_diverged_);
   return reply;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "sim/body_limits.h"
 #include "sim/body_spec.h"
 #include "sim/string_limits.h"
 
@@ -37,6 +38,11 @@ std::optional<RequestError> check_quat(const tumble::v1::Quat& q, const char* fi
 std::optional<RequestError> invalid(const Status& status) {
   if (status.ok()) return std::nullopt;
   return invalid(status.message());
+}
+
+// A body's pose or velocity, held to the same ranges as a spawned body's (body_limits.h).
+std::optional<RequestError> check_body_vec3(const tumble::v1::Vec3& v, const char* unit, const char* field) {
+  return invalid(check_magnitude(v, unit, field));
 }
 
 std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool present) {
@@ -139,10 +145,15 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
     case ClientMessage::kSetBodyState: {
       const auto& m = message.set_body_state();
       if ((error = check_body_ref(m.body(), m.has_body()))) return error;
-      if (m.has_position() && (error = check_vec3(m.position(), "position"))) return error;
+      // SetBodyState changes no mass or shape: those are fixed when a body is made.
+      if (m.has_position() && (error = check_body_vec3(m.position(), "m", "position"))) return error;
       if (m.has_orientation() && (error = check_quat(m.orientation(), "orientation"))) return error;
-      if (m.has_linear_velocity() && (error = check_vec3(m.linear_velocity(), "linear_velocity"))) return error;
-      if (m.has_angular_velocity() && (error = check_vec3(m.angular_velocity(), "angular_velocity"))) return error;
+      if (m.has_linear_velocity() && (error = check_body_vec3(m.linear_velocity(), "m/s", "linear_velocity"))) {
+        return error;
+      }
+      if (m.has_angular_velocity() && (error = check_body_vec3(m.angular_velocity(), "rad/s", "angular_velocity"))) {
+        return error;
+      }
       return std::nullopt;
     }
     case ClientMessage::kClearForces: {

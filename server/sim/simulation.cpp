@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/body_spec.h"
+#include "sim/log.h"
 #include "sim/log_text.h"
 #include "sim/reply.h"
 #include "sim/request_check.h"
@@ -70,7 +71,10 @@ Status Simulation::create_from_state(const tumble::v1::WorldState& state, const 
 
 void Simulation::capture(tumble::v1::WorldState* state) const {
   state->Clear();
-  capture_world(world_, directory_, loads_, state);
+  if (const std::size_t left_out = capture_world(world_, directory_, loads_, state); left_out > 0) {
+    sim_log().error("left {} bodies out of the saved world at tick {}: their states are not finite or out of range",
+                    left_out, next_tick_);
+  }
   state->set_tick(next_tick_);
   state->set_sim_time(time_of(next_tick_));
   state->set_tick_rate_hz(tick_rate_hz());
@@ -226,6 +230,7 @@ void Simulation::advance() {
   ++next_tick_;
   tick_.store(next_tick_, std::memory_order_relaxed);
   sim_time_.store(time_of(next_tick_), std::memory_order_relaxed);
+  if (!world_.diverged_bodies().empty()) remove_diverged();
 
   if (!sleep_events_wanted_.load(std::memory_order_relaxed)) {
     sleep_.stop();

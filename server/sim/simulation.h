@@ -197,6 +197,14 @@ class Simulation {
   // command on the sim thread and hands its reply to command.reply.
   void apply(Command& command);
   void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
+  // Takes a body out of the world, its loads and the directory, with a
+  // body_removed event of `tick`.
+  void remove_from_world(physics::BodyId id, std::uint64_t tick);
+  // After a step: removes each body the step left diverged
+  // (physics::World::diverged_bodies), with a body_diverged event, a log
+  // line and a count, so no non-finite value stays in the world or reaches
+  // a snapshot or a state file.
+  void remove_diverged();
   // The tick whose state first shows an edit applied now: the next step's,
   // or the current one while paused.
   std::uint64_t edit_tick() const { return paused_ ? next_tick_ : next_tick_ + 1; }
@@ -231,11 +239,12 @@ class Simulation {
   std::uint64_t rate_since_tick_ = 0;  // the tick at which dt_ took effect
   double rate_since_time_ = 0;         // s, sim time at that tick
   bool paused_ = false;
-  std::uint32_t steps_left_ = 0;  // ticks of the Step under way
-  Command step_command_;          // the Step under way, answered when steps_left_ reaches 0
-  bool edited_ = false;           // the world was edited since the last snapshot
-  SleepWatch sleep_;              // watching while sleep_events_wanted_
-  WorldEvents events_;            // of the tick being made
+  std::uint32_t steps_left_ = 0;       // ticks of the Step under way
+  Command step_command_;               // the Step under way, answered when steps_left_ reaches 0
+  bool edited_ = false;                // the world was edited since the last snapshot
+  std::uint64_t bodies_diverged_ = 0;  // removed by remove_diverged() since the start
+  SleepWatch sleep_;                   // watching while sleep_events_wanted_
+  WorldEvents events_;                 // of the tick being made
   TickTiming timing_;
   RunRecord record_;  // the journal and the checkpoints
   SnapshotListener listener_;

@@ -1,6 +1,6 @@
 // Things that happen to the world that a client may want to hear about
 // without watching every frame: bodies spawned and removed, falling asleep
-// and waking, and resets. The sim thread collects them while it applies
+// and waking, diverging, and resets. The sim thread collects them while it applies
 // commands and steps, and hands each tick's events over in order.
 #pragma once
 
@@ -20,6 +20,9 @@ enum class WorldEventKind : std::uint8_t {
   body_asleep,   // a dynamic body fell asleep in the step of `tick`
   body_awake,    // a sleeping dynamic body woke up
   world_reset,   // the world was put back to its scene; no body
+  // The step of `tick` left the body's state not finite or out of range
+  // (physics::World::diverged_bodies); a body_removed follows at once.
+  body_diverged,
 };
 
 struct WorldEvent {

@@ -1,8 +1,11 @@
 #include "sim/world_state.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
+#include "sim/body_limits.h"
 #include "sim/body_spec.h"
 #include "sim/log.h"
 #include "sim/log_text.h"
@@ -35,6 +38,21 @@ const tumble::v1::BodySpec& allowed_name(const tumble::v1::SavedBody& saved, con
   return *renamed;
 }
 
+bool within_magnitude(const physics::Vec3& v) {
+  return std::abs(v.x()) <= kMaxMagnitude && std::abs(v.y()) <= kMaxMagnitude && std::abs(v.z()) <= kMaxMagnitude;
+}
+
+// Whether restore_world would take the body's state back: the pose and
+// velocities its spec checks (body_spec.h), and finite momenta and sleep
+// time. Mass and shape were checked when the body was made and never change.
+bool restorable(const physics::World& world, physics::BodyId id) {
+  const physics::Quat& q = world.orientation(id);
+  return within_magnitude(world.position(id)) && within_magnitude(world.linear_velocity(id)) &&
+         within_magnitude(world.angular_velocity(id)) && q.coeffs().allFinite() && std::abs(q.norm() - 1.0) <= 1e-3 &&
+         world.linear_momentum(id).allFinite() && world.angular_momentum(id).allFinite() &&
+         std::isfinite(world.sleep_time(id));
+}
+
 }  // namespace
 
 tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id) {
@@ -59,14 +77,19 @@ tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirect
   return spec;
 }
 
-void capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
-                   tumble::v1::WorldState* state) {
+std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
+                          tumble::v1::WorldState* state) {
   state->set_format_version(kWorldStateFormat);
   set_vec3(world.gravity(), state->mutable_gravity());
   state->set_next_body_id(world.next_body_id());
   state->clear_bodies();
+  std::vector<physics::BodyId> left_out;
   for (std::size_t i = 0; i < world.body_count(); ++i) {
     const physics::BodyId id = world.body_id_at(i);
+    if (!restorable(world, id)) {
+      left_out.push_back(id);
+      continue;
+    }
     tumble::v1::SavedBody* saved = state->add_bodies();
     saved->set_id(id);
     *saved->mutable_spec() = body_spec_now(world, directory, id);
@@ -77,6 +100,7 @@ void capture_world(const physics::World& world, const BodyDirectory& directory, 
   }
   state->clear_loads();
   for (const BodyLoad& load : loads.loads()) {
+    if (std::find(left_out.begin(), left_out.end(), load.body) != left_out.end()) continue;
     tumble::v1::SavedLoad* saved = state->add_loads();
     saved->set_body(load.body);
     set_vec3(load.force, saved->mutable_force());
@@ -84,6 +108,7 @@ void capture_world(const physics::World& world, const BodyDirectory& directory, 
     set_vec3(load.torque, saved->mutable_torque());
     saved->set_ticks_left(load.ticks_left);
   }
+  return left_out.size();
 }
 
 Status restore_world(const tumble::v1::WorldState& state, physics::World* world, BodyDirectory* directory,

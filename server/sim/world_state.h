@@ -12,6 +12,8 @@
 // Thread: the sim thread, which owns the world, directory and loads.
 #pragma once
 
+#include <cstddef>
+
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
 #include "sim/status.h"
@@ -30,9 +32,13 @@ inline constexpr std::uint32_t kWorldStateFormat = 1;
 inline constexpr std::uint32_t kMaxBodyIds = std::uint32_t{1} << 26;
 
 // Fills state->bodies, next_body_id, gravity and loads from the world (the
-// clock fields and the scene are the caller's).
-void capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
-                   tumble::v1::WorldState* state);
+// clock fields and the scene are the caller's). A body whose state
+// restore_world would refuse (not finite, or beyond kMaxMagnitude: the sim
+// removes such a body after the step that made it, so this never happens
+// unless that guard fails) is left out with its loads, so that a saved
+// world always restores; returns how many were left out.
+std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
+                          tumble::v1::WorldState* state);
 
 // The description of one body as it is now: what a scene file would say to
 // create it here, moving as it moves.

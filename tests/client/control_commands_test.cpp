@@ -190,7 +190,7 @@ TEST(ControlRequests, SetClearSubscribeAndForce) {
   subscribe.events = true;
   const tumble::v1::Subscribe request = make_subscribe(subscribe);
   EXPECT_EQ(request.fields(), tumble::v1::POSE_FIELDS_POSE);
-  EXPECT_EQ(request.events_size(), 5);
+  EXPECT_EQ(request.events_size(), 6) << "spawned, removed, asleep, awake, reset, diverged";
   EXPECT_EQ(make_subscribe(SubscribeCommand{}).events_size(), 0);
   EXPECT_EQ(make_subscribe(SubscribeCommand{}).fields(), tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
 
@@ -222,6 +222,7 @@ tumble::v1::Stats sample_stats() {
   stats.set_bodies(5);
   stats.set_bodies_awake(3);
   stats.set_bodies_asleep(2);
+  stats.set_bodies_diverged(1);
   stats.set_clients(4);
   stats.set_bytes_sent(123456);
   return stats;
@@ -229,7 +230,7 @@ tumble::v1::Stats sample_stats() {
 
 TEST(ControlOutput, StatsAsJsonAndText) {
   const nlohmann::json json = nlohmann::json::parse(json_line(stats_json(sample_stats())));
-  EXPECT_EQ(json.size(), 17u);
+  EXPECT_EQ(json.size(), 18u);
   EXPECT_EQ(json["tick"], 1234);
   EXPECT_EQ(json["sim_time"], 5.1416);
   EXPECT_EQ(json["paused"], true);
@@ -240,6 +241,7 @@ TEST(ControlOutput, StatsAsJsonAndText) {
   EXPECT_EQ(json["overruns"], 2);
   EXPECT_EQ(json["bodies"], 5);
   EXPECT_EQ(json["bodies_asleep"], 2);
+  EXPECT_EQ(json["bodies_diverged"], 1);
   EXPECT_EQ(json["clients"], 4);
   EXPECT_EQ(json["bytes_sent"], 123456);
 
@@ -250,6 +252,7 @@ TEST(ControlOutput, StatsAsJsonAndText) {
   EXPECT_NE(text.find("tick CPU p99      0.750 ms\n"), std::string::npos) << text;
   EXPECT_NE(text.find("late start p99    2.250 ms\n"), std::string::npos) << text;
   EXPECT_NE(text.find("bodies            5 (3 awake, 2 asleep)\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("bodies diverged   1\n"), std::string::npos) << text;
 }
 
 TEST(ControlOutput, AcksOfSpawnPauseAndStep) {
@@ -275,6 +278,11 @@ TEST(ControlOutput, WorldEvents) {
             "{\"event\": \"asleep\", \"tick\": 12, \"id\": 7, \"name\": \"crate\"}\n");
   event.set_body_name("");
   EXPECT_EQ(format_world_event(event), "tick 12  asleep  #7\n");
+  event.set_kind(tumble::v1::WORLD_EVENT_BODY_DIVERGED);
+  event.set_body_name("flea");
+  EXPECT_EQ(format_world_event(event), "tick 12  diverged  flea (#7)\n");
+  EXPECT_EQ(json_line(world_event_json(event)),
+            "{\"event\": \"diverged\", \"tick\": 12, \"id\": 7, \"name\": \"flea\"}\n");
   event.set_kind(tumble::v1::WORLD_EVENT_WORLD_RESET);
   EXPECT_EQ(format_world_event(event), "tick 12  reset\n");
   EXPECT_EQ(json_line(world_event_json(event)), "{\"event\": \"reset\", \"tick\": 12}\n");

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "rotation.h"
@@ -206,6 +207,57 @@ TEST(WorldTest, ForceAtPointAccumulatesTorque) {
   EXPECT_EQ(world.accumulated_force(id), Vec3(1.0, 2.0, 0.0));
   // z x 2y = -2x.
   EXPECT_EQ(world.accumulated_torque(id), Vec3(-2.0, 0.0, 5.0));
+}
+
+// The divergence guard: after a step, a moving body beyond
+// max_state_magnitude or not finite is listed; the others never are.
+TEST(WorldTest, DivergedBodiesAreListedAfterTheStepThatMadeThem) {
+  World world;
+  world.set_gravity(Vec3::Zero());
+  WorldSettings settings;
+  settings.max_state_magnitude = 100;
+  world.set_settings(settings);
+  const BodyId calm = world.add_body(sphere_at({0, 0, 0}, {1, 0, 0}));
+  const BodyId runaway = world.add_body(sphere_at({0, 10, 0}, {0, 0, 0}));
+  const BodyId spinner = world.add_body(sphere_at({0, 20, 0}, {0, 0, 0}));
+  const BodyId poisoned = world.add_body(sphere_at({0, 30, 0}, {0, 0, 0}));
+  const BodyId far = world.add_body(sphere_at({98.5, 40, 0}, {60, 0, 0}));
+  world.step(0.01);
+  EXPECT_TRUE(world.diverged_bodies().empty());
+
+  // 1.5 kg: 3000 N for 0.1 s make 200 m/s, beyond the bound of 100 m/s.
+  world.add_force(runaway, {3000, 0, 0});
+  // I = 2/5 m r^2 = 0.0375 kg m^2; L = r x J = (0, -10, 0), so w = 267 rad/s.
+  world.apply_impulse_at_point(spinner, {0, 0, 10}, Vec3(1, 20, 0));
+  world.add_force(poisoned, {std::nan(""), 0, 0});
+  world.step(0.1);  // far: 98.5 + 60 * 0.11 = 105.1 m, beyond 100 m
+  const std::vector<BodyId> listed(world.diverged_bodies().begin(), world.diverged_bodies().end());
+  EXPECT_EQ(listed, (std::vector<BodyId>{runaway, spinner, poisoned, far})) << "in dense order";
+  EXPECT_FALSE(std::isfinite(world.position(poisoned).x()));
+  EXPECT_TRUE(std::isfinite(world.position(calm).x()));
+
+  // Removed, they are listed until the next step, which lists only what it made.
+  for (const BodyId id : listed) world.remove_body(id);
+  world.step(0.01);
+  EXPECT_TRUE(world.diverged_bodies().empty());
+  EXPECT_EQ(world.body_count(), 1u);
+}
+
+TEST(WorldTest, AnInfiniteBoundStillCatchesWhatIsNotFinite) {
+  World world;
+  WorldSettings settings;
+  settings.max_state_magnitude = std::numeric_limits<double>::infinity();
+  world.set_settings(settings);
+  // Alone: a body that can reach 1e298 m in a step has a contact with everything.
+  const BodyId fast = world.add_body(sphere_at({0, 0, 0}, {1e300, 0, 0}));
+  world.step(1.0 / 60.0);
+  EXPECT_TRUE(world.diverged_bodies().empty());
+  world.remove_body(fast);
+  const BodyId overflowing = world.add_body(sphere_at({0, 10, 0}, {0, 0, 0}));
+  world.add_force(overflowing, {std::numeric_limits<double>::infinity(), 0, 0});
+  world.step(1.0 / 60.0);
+  ASSERT_EQ(world.diverged_bodies().size(), 1u);
+  EXPECT_EQ(world.diverged_bodies()[0], overflowing);
 }
 
 }  // namespace

@@ -121,10 +121,10 @@ TEST(SceneFile, ErrorsNameTheField) {
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"box": {"half_extents": [1, 1]}}, "mass": 1}]})"),
             "bodies[0].shape.box.half_extents: expected an array of 3 numbers [x, y, z]");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": -1}]})"),
-            "bodies[0].mass: must be a positive finite number");
+            "bodies[0].mass: -1 kg is outside 1e-6 .. 1e9 kg");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1},
                                       {"shape": {"sphere": {"radius": 0}}, "mass": 1}]})"),
-            "bodies[1].shape.sphere.radius: must be a positive finite number");
+            "bodies[1].shape.sphere.radius: 0 m is outside 0.001 .. 1e6 m");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1, "colour": "red"}]})"),
             "bodies[0]: unknown field 'colour'");
   EXPECT_EQ(load_error(R"({"bodies": [{"mass": 1}]})"), "bodies[0]: missing field 'shape'");
@@ -141,11 +141,12 @@ TEST(SceneFile, ErrorsNameTheField) {
                                       "positions": [[0,0,0],[1,0,0]]}}}]})"),
             "bodies[0].shape.points: the points are collinear, so the body has no rotational inertia about one "
             "axis");
-  // Positive, but the moments of inertia underflow to 0 or the inverse mass overflows.
+  // Positive, but so small that the moments of inertia would underflow to 0
+  // or the inverse mass overflow: outside the ranges (body_limits.h).
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"capsule": {"radius": 1e-200, "half_height": 0}}, "mass": 1}]})"),
-            "bodies[0]: too small or too light: its inertia cannot be inverted");
+            "bodies[0].shape.capsule.radius: 1e-200 m is outside 0.001 .. 1e6 m");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"sphere": {"radius": 1}}, "mass": 1e-310}]})"),
-            "bodies[0]: too small or too light: its inertia cannot be inverted");
+            "bodies[0].mass: 1e-310 kg is outside 1e-6 .. 1e9 kg");
   EXPECT_EQ(load_error(R"({"gravity": [0, "down", 0]})"), "gravity[1]: expected a number");
   EXPECT_EQ(load_error(R"({"bodies": [{"shape": {"plane": {}}}]})"),
             "bodies[0].shape.plane: a plane must be static (\"static\": true)");

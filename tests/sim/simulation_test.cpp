@@ -201,6 +201,79 @@ TEST_F(SimulationTest, ListBodiesDescribesEveryBody) {
   EXPECT_DOUBLE_EQ(list.bodies(1).orientation().w(), 1);
 }
 
+TEST_F(SimulationTest, ABodyWhoseStateDivergesIsRemovedWithEventsAndCounted) {
+  std::vector<WorldEvent> events;
+  sim_->set_event_listener(
+      [&](std::shared_ptr<const WorldEvents> batch) { events.insert(events.end(), batch->begin(), batch->end()); });
+  // Every number within the ranges: the lightest body and the largest force.
+  // a = 1e9 N / 1e-6 kg = 1e15 m/s^2, so one step of 1/240 s makes v = 4.2e12 m/s.
+  ClientMessage spawn;
+  auto* body = spawn.mutable_spawn_body()->mutable_body();
+  body->set_name("flea");
+  body->mutable_shape()->mutable_sphere()->set_radius(0.01);
+  body->set_mass(1e-6);
+  body->mutable_position()->set_y(10);
+  const ServerMessage spawned = request(spawn);
+  ASSERT_TRUE(spawned.has_ack()) << spawned.ShortDebugString();
+  const physics::BodyId flea = spawned.ack().body_id();
+  ClientMessage push = force("flea", 1e9, 0, 0);
+  push.mutable_apply_force()->set_persistent(true);
+  const ServerMessage pushed = request(push);  // the step of this tick diverges
+  ASSERT_TRUE(pushed.has_ack()) << pushed.ShortDebugString();
+  const std::uint64_t diverged_at = sim_->tick();
+
+  EXPECT_FALSE(sim_->world().contains(flea));
+  EXPECT_EQ(sim_->body_count(), 2u);
+  EXPECT_TRUE(sim_->loads().loads().empty()) << "the persistent force went with the body";
+  EXPECT_EQ(sim_->resolve([] {
+    tumble::v1::BodyRef ref;
+    ref.set_name("flea");
+    return ref;
+  }()),
+            physics::kInvalidBodyId);
+  // diverged, then removed, both of the tick of the step; nothing else of the flea after its spawn.
+  ASSERT_GE(events.size(), 3u);
+  const WorldEvent& divergence = events[events.size() - 2];
+  const WorldEvent& removal = events.back();
+  EXPECT_EQ(divergence.kind, WorldEventKind::body_diverged);
+  EXPECT_EQ(divergence.body, flea);
+  EXPECT_EQ(divergence.name, "flea");
+  EXPECT_EQ(divergence.tick, diverged_at);
+  EXPECT_EQ(removal.kind, WorldEventKind::body_removed);
+  EXPECT_EQ(removal.body, flea);
+  EXPECT_EQ(removal.tick, diverged_at);
+
+  ClientMessage stats;
+  stats.mutable_get_stats();
+  EXPECT_EQ(request(stats).stats().bodies_diverged(), 1u);
+  // The world goes on; the others are untouched, and what is saved restores.
+  EXPECT_TRUE(sim_->world().position(crate_).isZero());
+  tumble::v1::WorldState state;
+  sim_->capture(&state);
+  EXPECT_EQ(state.bodies_size(), 2);
+  std::unique_ptr<Simulation> resumed;
+  const Status status = Simulation::create_from_state(state, SimConfig{}, &resumed);
+  EXPECT_TRUE(status.ok()) << status.message();
+}
+
+TEST_F(SimulationTest, ABodyThatTurnsNaNIsRemovedBeforeAnyoneSeesIt) {
+  std::vector<std::shared_ptr<const Snapshot>> snapshots;
+  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  // Past the request checks, as a bug would be: a force that is not a number.
+  ClientMessage poison = force("ball", std::nan(""), 0, 0);
+  poison.set_request_id(++request_id_);
+  sim_->submit(Command{poison, nullptr});
+  sim_->request_snapshot();
+  sim_->run_tick();
+  EXPECT_FALSE(sim_->world().contains(ball_));
+  ASSERT_FALSE(snapshots.empty());
+  for (const double value : snapshots.back()->positions) EXPECT_TRUE(std::isfinite(value));
+  EXPECT_EQ(snapshots.back()->ids.size(), 1u);
+  ClientMessage stats;
+  stats.mutable_get_stats();
+  EXPECT_EQ(request(stats).stats().bodies_diverged(), 1u);
+}
+
 TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
   std::vector<std::uint64_t> ticks;
   sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { ticks.push_back(s->tick); });

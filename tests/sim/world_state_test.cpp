@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -139,6 +140,37 @@ TEST(WorldState, RoundTripThroughAFileIsExact) {
   }
 }
 
+TEST(WorldState, ABodyThatCouldNotBeRestoredIsNeverSaved) {
+  Built original;
+  build(kPile, &original);
+  const physics::BodyId a = original.directory.id_of("a");
+  const physics::BodyId b = original.directory.id_of("b");
+  const physics::BodyId ball = original.directory.id_of("ball");
+  original.loads.add_force(a, {1, 0, 0}, {0, 0, 0}, BodyLoad::kPersistent);
+  original.loads.add_force(ball, {0, 1, 0}, {0, 0, 0}, BodyLoad::kPersistent);
+  // What only a failing guard could leave: a NaN position, and a speed beyond the ranges.
+  original.world.set_state(a, {std::nan(""), 0.5, 0}, physics::Quat::Identity(), physics::Vec3::Zero(),
+                           physics::Vec3::Zero());
+  original.world.set_state(b, {0, 1.5, 0}, physics::Quat::Identity(), {2e9, 0, 0}, physics::Vec3::Zero());
+
+  tumble::v1::WorldState state;
+  EXPECT_EQ(capture_world(original.world, original.directory, original.loads, &state), 2u);
+  ASSERT_EQ(state.bodies_size(), static_cast<int>(original.world.body_count()) - 2);
+  for (const tumble::v1::SavedBody& saved : state.bodies()) {
+    EXPECT_NE(saved.id(), a);
+    EXPECT_NE(saved.id(), b);
+  }
+  // The load of the body left out goes with it; the other stays.
+  ASSERT_EQ(state.loads_size(), 1);
+  EXPECT_EQ(state.loads(0).body(), ball);
+  // What was saved restores, and the ids left out are never handed out again.
+  Built restored;
+  const Status status = restore_world(state, &restored.world, &restored.directory, &restored.loads);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(restored.world.body_count(), original.world.body_count() - 2);
+  EXPECT_EQ(restored.world.next_body_id(), original.world.next_body_id());
+}
+
 TEST(WorldState, AMissingFileIsNotAnError) {
   tumble::v1::WorldState state;
   bool exists = true;
@@ -187,7 +219,15 @@ TEST(WorldState, InconsistentStatesAreRefused) {
   EXPECT_EQ(error_of(bad), "bodies[1]: momenta and sleep_time must be finite");
   bad = good;
   bad.mutable_bodies(1)->mutable_spec()->mutable_shape()->mutable_box()->mutable_half_extents()->set_x(-1);
-  EXPECT_EQ(error_of(bad), "bodies[1].spec.shape.box.half_extents: must be a positive finite number");
+  EXPECT_EQ(error_of(bad), "bodies[1].spec.shape.box.half_extents.x: -1 m is outside 0.001 .. 1e6 m");
+  // A body outside the physical ranges (body_limits.h), as a file of an
+  // older server could hold: refused, naming the body and the range.
+  bad = good;
+  bad.mutable_bodies(1)->mutable_spec()->set_mass(1e-40);
+  EXPECT_EQ(error_of(bad), "bodies[1].spec.mass: 1e-40 kg is outside 1e-6 .. 1e9 kg");
+  bad = good;
+  bad.mutable_bodies(1)->mutable_spec()->mutable_position()->set_y(std::nan(""));
+  EXPECT_EQ(error_of(bad), "bodies[1].spec.position.y: nan m is outside -1e9 .. 1e9 m");
   bad = good;
   bad.mutable_bodies(3)->mutable_spec()->set_name("a");
   EXPECT_EQ(error_of(bad), "bodies[3].spec.name: 'a' is used by another body");

@@ -26,6 +26,9 @@
 //      the solver's correction towards its substep motion;
 //   6. islands of bodies connected by touching contacts that have all been
 //      slow for time_to_sleep fall asleep (src/island.cpp).
+// Step 5 also checks each body it moved against
+// WorldSettings::max_state_magnitude; diverged_bodies() lists those beyond
+// it or no longer finite.
 //
 // Static bodies never move; kinematic bodies move with their set velocity
 // and are not affected by anything; both have infinite mass. mass(),
@@ -45,6 +48,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <span>
 
 #include "tumble/physics/body.h"
 #include "tumble/physics/math.h"
@@ -182,6 +186,15 @@ class World {
   // overlaps.
   double max_penetration() const;
   const StepStats& last_step_stats() const;
+
+  // The bodies whose state the last step() left beyond
+  // settings().max_state_magnitude or not finite (NaN or infinite), in
+  // dense order; empty after almost every step. The World goes on stepping
+  // them, and a NaN spreads to whatever such a body touches, so the caller
+  // should remove them (remove_body) before the next step. Valid until the
+  // next step() or remove_body(). Only bodies that moved in the step are
+  // checked; set_state and the other setters are not.
+  std::span<const BodyId> diverged_bodies() const;
 
   // Advances every body by dt seconds. A dt <= 0 only clears the force and
   // torque accumulators.

@@ -47,6 +47,13 @@ struct WorldSettings {
   // drifting however slowly it moves.
   double sleep_speed = 0.05;   // m/s
   double time_to_sleep = 0.5;  // s
+  // The divergence guard (World::diverged_bodies): after each step, a
+  // moving body with a position (m), velocity (m/s or rad/s) or momentum
+  // component beyond this magnitude, or any that is not finite, is
+  // reported. A body that far out has left any scene the solver is tuned
+  // for and would overflow within a few steps. Infinity reports only
+  // values that are not finite.
+  double max_state_magnitude = 1e9;
 };
 
 }  // namespace tumble::physics
