@@ -5,7 +5,7 @@
 
 #include "sim/replay.h"
 #include "sim/scene_file.h"
-#include "sim/state_file.h"
+#include "sim/state_resume.h"
 #include "tumble/version.h"
 
 namespace tumble::server {
@@ -16,6 +16,8 @@ struct Origin {
   tumble::v1::Scene scene;       // the scene to build, unless resuming
   tumble::v1::WorldState saved;  // the state to resume, when `resume`
   bool resume = false;
+  // Built from the state file already, when `resume` comes from --state.
+  std::unique_ptr<sim::Simulation> resumed;
   std::string name;  // for the log: the file, "the start of" a journal, or "no scene"
 };
 
@@ -31,10 +33,11 @@ sim::Status load_scene(const ServerOptions& options, tumble::v1::Scene* scene) {
   return {};
 }
 
-// Picks the journal's start, the state file or the scene; `config`'s tick
-// rate becomes the journal's when it starts from a scene.
-sim::Status choose_origin(const ServerOptions& options, sim::JournalReader& replay, sim::SimConfig& config,
-                          Origin* origin) {
+// Picks the journal's start, the state file (or the one it replaced, when
+// it is damaged) or the scene; `config`'s tick rate becomes the journal's
+// when it starts from a scene.
+sim::Status choose_origin(const ServerOptions& options, spdlog::logger& log, sim::JournalReader& replay,
+                          sim::SimConfig& config, Origin* origin) {
   if (auto status = load_scene(options, &origin->scene); !status.ok()) return status;
   origin->name = options.scene_path.empty() ? std::string("no scene") : options.scene_path;
   if (!options.replay_path.empty()) {
@@ -55,12 +58,17 @@ sim::Status choose_origin(const ServerOptions& options, sim::JournalReader& repl
     }
     origin->name = "the start of " + options.replay_path;
   } else if (!options.state_path.empty()) {
-    bool exists = false;
-    if (auto status = sim::read_state_file(options.state_path, &origin->saved, &exists); !status.ok()) {
-      return sim::Status::error("cannot resume: " + status.message());
-    }
-    origin->resume = exists;
-    if (exists) origin->name = options.state_path;
+    // A state that does not build a world counts as damaged, as one that
+    // fails its checksum does.
+    const auto build = [&](const tumble::v1::WorldState& state) {
+      return sim::Simulation::create_from_state(state, config, &origin->resumed);
+    };
+    sim::ResumedState resumed;
+    const sim::Status status = sim::resume_state(options.state_path, build, &resumed);
+    for (const std::string& warning : resumed.warnings) log.warn("{}", warning);
+    if (!status.ok()) return sim::Status::error("cannot resume: " + status.message());
+    origin->resume = resumed.resumed;
+    if (resumed.resumed) origin->name = resumed.from;
   }
   return {};
 }
@@ -93,12 +101,14 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
 
   sim::JournalReader replay;
   Origin origin;
-  if (auto status = choose_origin(options, replay, config, &origin); !status.ok()) return status;
+  if (auto status = choose_origin(options, log, replay, config, &origin); !status.ok()) return status;
   if (!origin.resume && options.scene_path.empty() && options.replay_path.empty()) {
     log.warn("no --scene given: starting with an empty world");
   }
 
-  if (origin.resume) {
+  if (origin.resumed) {
+    world->sim = std::move(origin.resumed);
+  } else if (origin.resume) {
     if (auto status = sim::Simulation::create_from_state(origin.saved, config, &world->sim); !status.ok()) {
       return sim::Status::error("cannot resume from " + origin.name + ": " + status.message());
     }

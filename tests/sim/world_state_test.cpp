@@ -3,8 +3,6 @@
 // command journal reads back what was recorded and survives a torn end.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -14,26 +12,12 @@
 #include "sim/scene_file.h"
 #include "sim/state_file.h"
 #include "sim/world_state.h"
+#include "temp_dir.h"
 
 namespace tumble::sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh directory under the system's temporary one, removed at the end.
-class TempDir {
- public:
-  TempDir() : path_(fs::temp_directory_path() / ("tumble-state-test-" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // The world of `scene_json` with its directory, as the simulation builds it.
 struct Built {
@@ -152,11 +136,12 @@ TEST(WorldState, DamagedFilesAreClearErrors) {
   bool exists = false;
   std::ofstream(dir.file("json")) << R"({"bodies": []})";
   Status status = read_state_file(dir.file("json"), &state, &exists);
-  EXPECT_EQ(status.message(),
-            dir.file("json") + ": not a tumble state file (it does not start with 'tumble-state-v1')");
+  EXPECT_EQ(status.message(), dir.file("json") +
+                                  ": not a tumble state file (it does not start with 'tumble-state-v2' or "
+                                  "'tumble-state-v1')");
   std::ofstream(dir.file("torn"), std::ios::binary) << "tumble-state-v1\n" << std::string("\x0a\xff\xff", 3);
   status = read_state_file(dir.file("torn"), &state, &exists);
-  EXPECT_EQ(status.message(), dir.file("torn") + ": the state file is damaged (not a valid WorldState)");
+  EXPECT_EQ(status.message(), dir.file("torn") + ": the payload does not parse as a WorldState");
 }
 
 TEST(WorldState, InconsistentStatesAreRefused) {
@@ -201,6 +186,7 @@ TEST(WorldState, InconsistentStatesAreRefused) {
 TEST(WorldState, AFailedWriteKeepsTheOldFile) {
   TempDir dir;
   tumble::v1::WorldState state;
+  state.set_format_version(kWorldStateFormat);
   state.set_tick(1);
   ASSERT_TRUE(write_state_file(dir.file("world.state"), state).ok());
   // A directory where the temporary file would go makes the next write fail.
@@ -278,7 +264,7 @@ TEST(Journal, NotAJournalIsAClearError) {
   std::ofstream(dir.file("x")) << "hello";
   JournalReader reader;
   EXPECT_EQ(reader.open(dir.file("x")).message(),
-            dir.file("x") + ": not a tumble journal (no 'tumble-journal-v1' at its start)");
+            dir.file("x") + : not a tumble journal (no 'tumble-journal-v1' at its start)");
 }
 
 }  // namespace
