@@ -44,6 +44,10 @@ sim::Status choose_origin(const ServerOptions& options, spdlog::logger& log, sim
     if (auto status = replay.open(options.replay_path); !status.ok()) {
       return sim::Status::error("cannot replay: " + status.message());
     }
+    if (!replay.checksummed()) {
+      log.warn("{} is a version 1 journal, whose records carry no checksums: damage to it cannot be detected",
+               options.replay_path);
+    }
     const tumble::v1::JournalHeader& header = replay.header();
     if (header.has_state()) {
       origin->saved = header.state();
@@ -124,6 +128,10 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
     if (auto status = sim::replay_journal(replay, simulation, &summary); !status.ok()) {
       return sim::Status::error("replay of " + options.replay_path + " failed after " +
                                 std::to_string(summary.commands) + " commands: " + status.message());
+    }
+    if (replay.torn()) {
+      log.warn("{}: {}: the run that wrote it was killed mid-write; replayed up to it", options.replay_path,
+               replay.torn_record());
     }
     log.info("replayed {} commands of {} to tick {}{}; paused there", summary.commands, options.replay_path,
              summary.end_tick, summary.complete ? "" : " (the journal was cut short: its run was killed)");

@@ -1,7 +1,8 @@
 // A world that survives restarts, against the real tumbled: --state saves
 // it on SIGTERM and resumes it exactly; --checkpoint-interval bounds what a
 // kill -9 loses; --record and --replay reproduce a run bit for bit; a
-// damaged state file falls back to the one it replaced.
+// damaged state file falls back to the one it replaced, and a damaged
+// journal is refused at the damaged record.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -262,6 +263,59 @@ TEST(Persistence, BothStateFilesDamagedExitsWithBothReasons) {
       << result.err;
   EXPECT_EQ(result.err.find("tick_rate_hz"), std::string::npos) << result.err;
   EXPECT_FALSE(std::filesystem::exists(state + ".damaged"));
+}
+
+// The byte offset of each record of the journal at `path` (the header's first).
+std::vector<std::size_t> journal_records(const std::string& path) {
+  const std::string bytes = read_file(path);
+  std::vector<std::size_t> starts;
+  for (std::size_t at = 18; at + 12 <= bytes.size();) {
+    starts.push_back(at);
+    std::uint32_t length = 0;
+    for (std::size_t i = 4; i-- > 0;) length = (length << 8) | static_cast<unsigned char>(bytes[at + i]);
+    at += 12 + length;
+  }
+  return starts;
+}
+
+TEST(Persistence, ADamagedJournalIsRefusedAtTheRecordAndATornOneReplaysUpToIt) {
+  const std::string dir = make_temp_dir();
+  const std::string journal = dir + "/run.journal";
+  {
+    TumbledProcess server(kFloatingScene, {"--record", journal});
+    ASSERT_TRUE(server.started()) << server.log();
+    run_ok(server, {"impulse", "crate", "--impulse", "1", "0", "0"});
+    run_ok(server, {"impulse", "crate", "--impulse", "0", "1", "0"});
+    run_ok(server, {"impulse", "crate", "--impulse", "0", "0", "1"});
+    ASSERT_EQ(terminate(server), 0) << server.log();
+  }
+  const std::vector<std::size_t> records = journal_records(journal);
+  ASSERT_EQ(records.size(), 5u);  // the header, three impulses, the end
+  const std::string whole = read_file(journal);
+
+  const std::string damaged = dir + "/damaged.journal";
+  std::ofstream(damaged, std::ios::binary) << whole;
+  flip_byte(damaged, records[2] + 12 + 4);
+  CommandResult result = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--replay", damaged});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("replay of " + damaged + " failed after 1 commands: record 2 at byte " +
+                            std::to_string(records[2]) + ": its payload is damaged"),
+            std::string::npos)
+      << result.err;
+
+  // Killed while writing its end record: the three impulses replay.
+  const std::string torn = dir + "/torn.journal";
+  std::ofstream(torn, std::ios::binary) << whole.substr(0, whole.size() - 3);
+  TumbledProcess replay(kFloatingScene, {"--replay", torn});
+  ASSERT_TRUE(replay.started()) << replay.log();
+  EXPECT_NE(replay.log().find(torn + ": record 4 at byte " + std::to_string(records[4]) + " is cut short"),
+            std::string::npos)
+      << replay.log();
+  EXPECT_NE(replay.log().find("replayed 3 commands"), std::string::npos) << replay.log();
+  // Each impulse of 1 N s gave the 2 kg crate 0.5 m/s.
+  const json crate = body(run_json(replay, {"bodies"}), "crate");
+  EXPECT_DOUBLE_EQ(crate["linear_velocity"][0].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(crate["linear_velocity"][2].get<double>(), 0.5);
 }
 
 }  // namespace

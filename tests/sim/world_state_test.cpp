@@ -264,7 +264,7 @@ TEST(Journal, NotAJournalIsAClearError) {
   std::ofstream(dir.file("x")) << "hello";
   JournalReader reader;
   EXPECT_EQ(reader.open(dir.file("x")).message(),
-            dir.file("x") + : not a tumble journal (no 'tumble-journal-v1' at its start)");
+            dir.file("x") + ": not a tumble journal (no 'tumble-journal-v2' or 'tumble-journal-v1' at its start)");
 }
 
 }  // namespace
