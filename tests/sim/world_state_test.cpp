@@ -183,6 +183,24 @@ TEST(WorldState, InconsistentStatesAreRefused) {
   EXPECT_EQ(error_of(bad), "loads[0].body: no body 99");
 }
 
+TEST(WorldState, ABodySavedWithoutAnOrientationIsRestoredUpright) {
+  Built original;
+  build(kPile, &original);
+  tumble::v1::WorldState state;
+  capture_world(original.world, original.directory, original.loads, &state);
+  state.mutable_bodies(1)->mutable_spec()->clear_orientation();
+  Built restored;
+  ASSERT_TRUE(restore_world(state, &restored.world, &restored.directory, &restored.loads).ok());
+  const physics::BodyId id = state.bodies(1).id();
+  EXPECT_EQ(restored.world.orientation(id).coeffs(), physics::Quat::Identity().coeffs());
+  // And saved again, it restores again.
+  tumble::v1::WorldState again;
+  capture_world(restored.world, restored.directory, restored.loads, &again);
+  Built twice;
+  const Status status = restore_world(again, &twice.world, &twice.directory, &twice.loads);
+  EXPECT_TRUE(status.ok()) << status.message();
+}
+
 TEST(WorldState, AFailedWriteKeepsTheOldFile) {
   TempDir dir;
   tumble::v1::WorldState state;
