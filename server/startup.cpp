@@ -6,7 +6,7 @@
 
 #include "sim/replay.h"
 #include "sim/scene_file.h"
-#include "sim/state_file.h"
+#include "sim/state_resume.h"
 #include "tumble/version.h"
 
 namespace tumble::server {
@@ -17,6 +17,8 @@ struct Origin {
   tumble::v1::Scene scene;       // the scene to build, unless resuming
   tumble::v1::WorldState saved;  // the state to resume, when `resume`
   bool resume = false;
+  // Built from the state file already, when `resume` comes from --state.
+  std::unique_ptr<sim::Simulation> resumed;
   std::string name;  // for the log: the file, "the start of" a journal, or "no scene"
 };
 
@@ -32,15 +34,20 @@ sim::Status load_scene(const ServerOptions& options, tumble::v1::Scene* scene) {
   return {};
 }
 
-// Picks the journal's start, the state file or the scene; `config`'s tick
-// rate becomes the journal's when it starts from a scene.
-sim::Status choose_origin(const ServerOptions& options, sim::JournalReader& replay, sim::SimConfig& config,
-                          Origin* origin) {
+// Picks the journal's start, the state file (or the one it replaced, when
+// it is damaged) or the scene; `config`'s tick rate becomes the journal's
+// when it starts from a scene.
+sim::Status choose_origin(const ServerOptions& options, spdlog::logger& log, sim::JournalReader& replay,
+                          sim::SimConfig& config, Origin* origin) {
   if (auto status = load_scene(options, &origin->scene); !status.ok()) return status;
   origin->name = options.scene_path.empty() ? std::string("no scene") : options.scene_path;
   if (!options.replay_path.empty()) {
     if (auto status = replay.open(options.replay_path); !status.ok()) {
       return sim::Status::error("cannot replay: " + status.message());
+    }
+    if (!replay.checksummed()) {
+      log.warn("{} is a version 1 journal, whose records carry no checksums: damage to it cannot be detected",
+               options.replay_path);
     }
     const tumble::v1::JournalHeader& header = replay.header();
     if (header.has_state()) {
@@ -56,12 +63,17 @@ sim::Status choose_origin(const ServerOptions& options, sim::JournalReader& repl
     }
     origin->name = "the start of " + options.replay_path;
   } else if (!options.state_path.empty()) {
-    bool exists = false;
-    if (auto status = sim::read_state_file(options.state_path, &origin->saved, &exists); !status.ok()) {
-      return sim::Status::error("cannot resume: " + status.message());
-    }
-    origin->resume = exists;
-    if (exists) origin->name = options.state_path;
+    // A state that does not build a world counts as damaged, as one that
+    // fails its checksum does.
+    const auto build = [&](const tumble::v1::WorldState& state) {
+      return sim::Simulation::create_from_state(state, config, &origin->resumed);
+    };
+    sim::ResumedState resumed;
+    const sim::Status status = sim::resume_state(options.state_path, build, &resumed);
+    for (const std::string& warning : resumed.warnings) log.warn("{}", warning);
+    if (!status.ok()) return sim::Status::error("cannot resume: " + status.message());
+    origin->resume = resumed.resumed;
+    if (resumed.resumed) origin->name = resumed.from;
   }
   return {};
 }
@@ -96,12 +108,14 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
 
   sim::JournalReader replay;
   Origin origin;
-  if (auto status = choose_origin(options, replay, config, &origin); !status.ok()) return status;
+  if (auto status = choose_origin(options, log, replay, config, &origin); !status.ok()) return status;
   if (!origin.resume && options.scene_path.empty() && options.replay_path.empty()) {
     log.warn("no --scene given: starting with an empty world");
   }
 
-  if (origin.resume) {
+  if (origin.resumed) {
+    world->sim = std::move(origin.resumed);
+  } else if (origin.resume) {
     if (auto status = sim::Simulation::create_from_state(origin.saved, config, &world->sim); !status.ok()) {
       return sim::Status::error("cannot resume from " + origin.name + ": " + status.message());
     }
@@ -117,6 +131,10 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
     if (auto status = sim::replay_journal(replay, simulation, &summary); !status.ok()) {
       return sim::Status::error("replay of " + options.replay_path + " failed after " +
                                 std::to_string(summary.commands) + " commands: " + status.message());
+    }
+    if (replay.torn()) {
+      log.warn("{}: {}: the run that wrote it was killed mid-write; replayed up to it", options.replay_path,
+               replay.torn_record());
     }
     log.info("replayed {} commands of {} to tick {}{}; paused there", summary.commands, options.replay_path,
              summary.end_tick, summary.complete ? "" : " (the journal was cut short: its run was killed)");

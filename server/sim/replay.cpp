@@ -46,6 +46,8 @@ Status replay_journal(JournalReader& journal, Simulation& sim, ReplaySummary* su
     pending = true;
     ++summary->commands;
   }
+  // A damaged record ends the replay: the commands after it are unknown.
+  if (status.ok() && !journal.status().ok()) status = journal.status();
   if (status.ok() && pending) sim.run_tick();
   if (status.ok() && summary->complete && sim.tick() != entry.tick()) {
     status = Status::error("the journal ends at tick " + std::to_string(entry.tick()) + " but the replay reached " +

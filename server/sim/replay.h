@@ -20,8 +20,10 @@ struct ReplaySummary {
 };
 
 // Feeds the rest of `journal` (its header already read, `sim` built from
-// it) into `sim`, stepping with run_tick() between commands. Fails when the
-// journal does not fit the world (e.g. a command recorded at a tick a
+// it) into `sim`, stepping with run_tick() between commands. A torn last
+// record ends the replay there (see journal.torn()). Fails at a damaged
+// record, with the journal's status (the record and its offset), and when
+// the journal does not fit the world (e.g. a command recorded at a tick a
 // paused world cannot reach).
 Status replay_journal(JournalReader& journal, Simulation& sim, ReplaySummary* summary);
 

@@ -150,10 +150,13 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
     }
     world->add_body_with_id(desc, saved.id());
     if (spec.shape().kind_case() != tumble::v1::Shape::kPlane) {
+      // A spec without an orientation means the identity (desc has it), not
+      // the zero quaternion protobuf's defaults would give.
       const auto& q = spec.orientation();
-      world->restore_state(saved.id(), desc.position, physics::Quat(q.w(), q.x(), q.y(), q.z()),
-                           to_vec3(saved.linear_momentum()), to_vec3(saved.angular_momentum()), !saved.asleep(),
-                           saved.sleep_time());
+      const physics::Quat orientation =
+          spec.has_orientation() ? physics::Quat(q.w(), q.x(), q.y(), q.z()) : desc.orientation;
+      world->restore_state(saved.id(), desc.position, orientation, to_vec3(saved.linear_momentum()),
+                           to_vec3(saved.angular_momentum()), !saved.asleep(), saved.sleep_time());
     }
     directory->add(saved.id(), BodyEntry{spec.name(), spec.shape(), world->mass(saved.id())});
   }

@@ -1,10 +1,13 @@
 // A world that survives restarts, against the real tumbled: --state saves
 // it on SIGTERM and resumes it exactly; --checkpoint-interval bounds what a
-// kill -9 loses; --record and --replay reproduce a run bit for bit.
+// kill -9 loses; --record and --replay reproduce a run bit for bit; a
+// damaged state file falls back to the one it replaced, and a damaged
+// journal is refused at the damaged record.
 #include <gtest/gtest.h>
 
 #include <signal.h>
 
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -192,6 +195,127 @@ TEST(Persistence, AReplayRefusesAnotherScene) {
       run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--replay", journal, "--scene", other});
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.err.find("recorded with another scene"), std::string::npos) << result.err;
+}
+
+// Sets byte `at` of the file at `path` to its complement.
+void flip_byte(const std::string& path, std::size_t at) {
+  std::string bytes = read_file(path);
+  ASSERT_LT(at, bytes.size());
+  bytes[at] = static_cast<char>(~bytes[at]);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+}
+
+TEST(Persistence, ADamagedStateFileFallsBackToTheOneItReplaced) {
+  const std::string state = make_temp_dir() + "/world.state";
+  json first;
+  {
+    TumbledProcess server(kFloatingScene, {"--state", state});
+    ASSERT_TRUE(server.started()) << server.log();
+    run_ok(server, {"impulse", "crate", "--impulse", "2", "0", "0"});
+    run_ok(server, {"pause"});
+    first = run_json(server, {"bodies"});
+    ASSERT_EQ(terminate(server), 0) << server.log();
+  }
+  {
+    TumbledProcess server(R"({"bodies": []})", {"--state", state});
+    ASSERT_TRUE(server.started()) << server.log();
+    run_ok(server, {"step", "24"});
+    ASSERT_EQ(terminate(server), 0) << server.log();
+  }
+  ASSERT_TRUE(std::filesystem::exists(state + ".prev"));
+  const std::string good_prev = read_file(state + ".prev");
+  flip_byte(state, read_file(state).size() / 2);
+  const std::string damaged = read_file(state);
+
+  TumbledProcess resumed(R"({"bodies": []})", {"--state", state});
+  ASSERT_TRUE(resumed.started()) << resumed.log();
+  EXPECT_NE(resumed.log().find("THE STATE FILE IS DAMAGED: " + state + ": bad checksum"), std::string::npos)
+      << resumed.log();
+  EXPECT_NE(resumed.log().find("resuming from " + state + ".prev"), std::string::npos) << resumed.log();
+  // The world of the first run, every number to the last bit.
+  const json after = run_json(resumed, {"bodies"});
+  EXPECT_EQ(after["tick"], first["tick"]);
+  EXPECT_EQ(after["bodies"], first["bodies"]);
+  // The damaged file is kept as it was; the good one is left in place.
+  EXPECT_EQ(read_file(state + ".damaged"), damaged);
+  EXPECT_EQ(read_file(state + ".prev"), good_prev);
+  EXPECT_FALSE(std::filesystem::exists(state));
+}
+
+TEST(Persistence, BothStateFilesDamagedExitsWithBothReasons) {
+  const std::string state = make_temp_dir() + "/world.state";
+  {
+    TumbledProcess server(kFloatingScene, {"--state", state});
+    ASSERT_TRUE(server.started()) << server.log();
+    ASSERT_EQ(terminate(server), 0) << server.log();
+  }
+  std::filesystem::rename(state, state + ".prev");
+  flip_byte(state + ".prev", 30);
+  std::ofstream(state, std::ios::binary) << "tumble-state-v2\n";  // only its magic number
+
+  const CommandResult result = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--state", state});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("cannot resume: " + state +
+                            ": cut short: 16 bytes end before its 8-byte payload length; and the previous state "
+                            "file is unusable too: " +
+                            state + ".prev: bad checksum"),
+            std::string::npos)
+      << result.err;
+  EXPECT_EQ(result.err.find("tick_rate_hz"), std::string::npos) << result.err;
+  EXPECT_FALSE(std::filesystem::exists(state + ".damaged"));
+}
+
+// The byte offset of each record of the journal at `path` (the header's first).
+std::vector<std::size_t> journal_records(const std::string& path) {
+  const std::string bytes = read_file(path);
+  std::vector<std::size_t> starts;
+  for (std::size_t at = 18; at + 12 <= bytes.size();) {
+    starts.push_back(at);
+    std::uint32_t length = 0;
+    for (std::size_t i = 4; i-- > 0;) length = (length << 8) | static_cast<unsigned char>(bytes[at + i]);
+    at += 12 + length;
+  }
+  return starts;
+}
+
+TEST(Persistence, ADamagedJournalIsRefusedAtTheRecordAndATornOneReplaysUpToIt) {
+  const std::string dir = make_temp_dir();
+  const std::string journal = dir + "/run.journal";
+  {
+    TumbledProcess server(kFloatingScene, {"--record", journal});
+    ASSERT_TRUE(server.started()) << server.log();
+    run_ok(server, {"impulse", "crate", "--impulse", "1", "0", "0"});
+    run_ok(server, {"impulse", "crate", "--impulse", "0", "1", "0"});
+    run_ok(server, {"impulse", "crate", "--impulse", "0", "0", "1"});
+    ASSERT_EQ(terminate(server), 0) << server.log();
+  }
+  const std::vector<std::size_t> records = journal_records(journal);
+  ASSERT_EQ(records.size(), 5u);  // the header, three impulses, the end
+  const std::string whole = read_file(journal);
+
+  const std::string damaged = dir + "/damaged.journal";
+  std::ofstream(damaged, std::ios::binary) << whole;
+  flip_byte(damaged, records[2] + 12 + 4);
+  CommandResult result = run_command({tumbled_path(), "--listen", "127.0.0.1:0", "--replay", damaged});
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("replay of " + damaged + " failed after 1 commands: record 2 at byte " +
+                            std::to_string(records[2]) + ": its payload is damaged"),
+            std::string::npos)
+      << result.err;
+
+  // Killed while writing its end record: the three impulses replay.
+  const std::string torn = dir + "/torn.journal";
+  std::ofstream(torn, std::ios::binary) << whole.substr(0, whole.size() - 3);
+  TumbledProcess replay(kFloatingScene, {"--replay", torn});
+  ASSERT_TRUE(replay.started()) << replay.log();
+  EXPECT_NE(replay.log().find(torn + ": record 4 at byte " + std::to_string(records[4]) + " is cut short"),
+            std::string::npos)
+      << replay.log();
+  EXPECT_NE(replay.log().find("replayed 3 commands"), std::string::npos) << replay.log();
+  // Each impulse of 1 N s gave the 2 kg crate 0.5 m/s.
+  const json crate = body(run_json(replay, {"bodies"}), "crate");
+  EXPECT_DOUBLE_EQ(crate["linear_velocity"][0].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(crate["linear_velocity"][2].get<double>(), 0.5);
 }
 
 }  // namespace

@@ -3,8 +3,6 @@
 // command journal reads back what was recorded and survives a torn end.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -15,26 +13,12 @@
 #include "sim/scene_file.h"
 #include "sim/state_file.h"
 #include "sim/world_state.h"
+#include "temp_dir.h"
 
 namespace tumble::sim {
 namespace {
 
 namespace fs = std::filesystem;
-
-// A fresh directory under the system's temporary one, removed at the end.
-class TempDir {
- public:
-  TempDir() : path_(fs::temp_directory_path() / ("tumble-state-test-" + std::to_string(::getpid()))) {
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // The world of `scene_json` with its directory, as the simulation builds it.
 struct Built {
@@ -184,11 +168,12 @@ TEST(WorldState, DamagedFilesAreClearErrors) {
   bool exists = false;
   std::ofstream(dir.file("json")) << R"({"bodies": []})";
   Status status = read_state_file(dir.file("json"), &state, &exists);
-  EXPECT_EQ(status.message(),
-            dir.file("json") + ": not a tumble state file (it does not start with 'tumble-state-v1')");
+  EXPECT_EQ(status.message(), dir.file("json") +
+                                  ": not a tumble state file (it does not start with 'tumble-state-v2' or "
+                                  "'tumble-state-v1')");
   std::ofstream(dir.file("torn"), std::ios::binary) << "tumble-state-v1\n" << std::string("\x0a\xff\xff", 3);
   status = read_state_file(dir.file("torn"), &state, &exists);
-  EXPECT_EQ(status.message(), dir.file("torn") + ": the state file is damaged (not a valid WorldState)");
+  EXPECT_EQ(status.message(), dir.file("torn") + ": the payload does not parse as a WorldState");
 }
 
 TEST(WorldState, InconsistentStatesAreRefused) {
@@ -263,9 +248,28 @@ TEST(WorldState, NamesThisServerRefusesAreClearedNotTheWorld) {
   EXPECT_EQ(allowed.bodies(2).name(), "b");
 }
 
+TEST(WorldState, ABodySavedWithoutAnOrientationIsRestoredUpright) {
+  Built original;
+  build(kPile, &original);
+  tumble::v1::WorldState state;
+  capture_world(original.world, original.directory, original.loads, &state);
+  state.mutable_bodies(1)->mutable_spec()->clear_orientation();
+  Built restored;
+  ASSERT_TRUE(restore_world(state, &restored.world, &restored.directory, &restored.loads).ok());
+  const physics::BodyId id = state.bodies(1).id();
+  EXPECT_EQ(restored.world.orientation(id).coeffs(), physics::Quat::Identity().coeffs());
+  // And saved again, it restores again.
+  tumble::v1::WorldState again;
+  capture_world(restored.world, restored.directory, restored.loads, &again);
+  Built twice;
+  const Status status = restore_world(again, &twice.world, &twice.directory, &twice.loads);
+  EXPECT_TRUE(status.ok()) << status.message();
+}
+
 TEST(WorldState, AFailedWriteKeepsTheOldFile) {
   TempDir dir;
   tumble::v1::WorldState state;
+  state.set_format_version(kWorldStateFormat);
   state.set_tick(1);
   ASSERT_TRUE(write_state_file(dir.file("world.state"), state).ok());
   // A directory where the temporary file would go makes the next write fail.
@@ -343,7 +347,7 @@ TEST(Journal, NotAJournalIsAClearError) {
   std::ofstream(dir.file("x")) << "hello";
   JournalReader reader;
   EXPECT_EQ(reader.open(dir.file("x")).message(),
-            dir.file("x") + ": not a tumble journal (no 'tumble-journal-v1' at its start)");
+            dir.file("x") + ": not a tumble journal (no 'tumble-journal-v2' or 'tumble-journal-v1' at its start)");
 }
 
 }  // namespace
