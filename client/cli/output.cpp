@@ -213,6 +213,8 @@ std::string format_stats(const tumble::v1::Stats& stats) {
                      std::to_string(stats.bodies_asleep()) + " asleep)"},
       {"bodies diverged", std::to_string(stats.bodies_diverged())},
       {"clients", std::to_string(stats.clients())},
+      {"refused clients", std::to_string(stats.connections_refused())},
+      {"closed on errors", std::to_string(stats.clients_closed_for_errors())},
       {"bytes sent", std::to_string(stats.bytes_sent())},
   };
   std::size_t width = 0;
@@ -241,6 +243,8 @@ Json stats_json(const tumble::v1::Stats& stats) {
   out["bodies_asleep"] = stats.bodies_asleep();
   out["bodies_diverged"] = stats.bodies_diverged();
   out["clients"] = stats.clients();
+  out["connections_refused"] = stats.connections_refused();
+  out["clients_closed_for_errors"] = stats.clients_closed_for_errors();
   out["bytes_sent"] = stats.bytes_sent();
   return out;
 }

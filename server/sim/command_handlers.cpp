@@ -258,13 +258,13 @@ void Simulation::remove_diverged() {
   for (std::size_t i = 0; i < diverged.size(); ++i) {
     const physics::BodyId id = diverged[i];
     if (i < kLoggedPerStep) {
-      // The id, not the name: a name is the client's text. The events carry the name.
+      // The name is a client's text: escaped and bounded (log_text.h).
       const physics::Vec3& x = world_.position(id);
       const physics::Vec3 v = world_.linear_velocity(id);
       sim_log().warn(
-          "removed body {} at tick {}: its state diverged (position [{}, {}, {}] m, velocity [{}, {}, {}] "
+          "removed body {} '{}' at tick {}: its state diverged (position [{}, {}, {}] m, velocity [{}, {}, {}] "
           "m/s)",
-          id, next_tick_, x.x(), x.y(), x.z(), v.x(), v.y(), v.z());
+          id, log_text(directory_.name_of(id)), next_tick_, x.x(), x.y(), x.z(), v.x(), v.y(), v.z());
     }
     events_.push_back({next_tick_, WorldEventKind::body_diverged, id, directory_.name_of(id)});
     remove_from_world(id, next_tick_);

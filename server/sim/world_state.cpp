@@ -157,6 +157,17 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
           spec.has_orientation() ? physics::Quat(q.w(), q.x(), q.y(), q.z()) : desc.orientation;
       world->restore_state(saved.id(), desc.position, orientation, to_vec3(saved.linear_momentum()),
                            to_vec3(saved.angular_momentum()), !saved.asleep(), saved.sleep_time());
+      // The momenta are checked through the velocities they give (v = p / m,
+      // w = I^-1 L), held to the same ranges as a spawned body's: a file
+      // that loads must save again to a file that loads.
+      if (!restorable(*world, saved.id())) {
+        const physics::Vec3 v = world->linear_velocity(saved.id());
+        const physics::Vec3 w = world->angular_velocity(saved.id());
+        return Status::error(where + ": its momenta give a velocity of [" + std::to_string(v.x()) + ", " +
+                             std::to_string(v.y()) + ", " + std::to_string(v.z()) + "] m/s and [" +
+                             std::to_string(w.x()) + ", " + std::to_string(w.y()) + ", " + std::to_string(w.z()) +
+                             "] rad/s, outside -1e9 .. 1e9 in some component");
+      }
     }
     directory->add(saved.id(), BodyEntry{spec.name(), spec.shape(), world->mass(saved.id())});
   }

@@ -224,13 +224,15 @@ tumble::v1::Stats sample_stats() {
   stats.set_bodies_asleep(2);
   stats.set_bodies_diverged(1);
   stats.set_clients(4);
+  stats.set_connections_refused(7);
+  stats.set_clients_closed_for_errors(3);
   stats.set_bytes_sent(123456);
   return stats;
 }
 
 TEST(ControlOutput, StatsAsJsonAndText) {
   const nlohmann::json json = nlohmann::json::parse(json_line(stats_json(sample_stats())));
-  EXPECT_EQ(json.size(), 18u);
+  EXPECT_EQ(json.size(), 20u);
   EXPECT_EQ(json["tick"], 1234);
   EXPECT_EQ(json["sim_time"], 5.1416);
   EXPECT_EQ(json["paused"], true);
@@ -243,6 +245,8 @@ TEST(ControlOutput, StatsAsJsonAndText) {
   EXPECT_EQ(json["bodies_asleep"], 2);
   EXPECT_EQ(json["bodies_diverged"], 1);
   EXPECT_EQ(json["clients"], 4);
+  EXPECT_EQ(json["connections_refused"], 7);
+  EXPECT_EQ(json["clients_closed_for_errors"], 3);
   EXPECT_EQ(json["bytes_sent"], 123456);
 
   const std::string text = format_stats(sample_stats());
@@ -253,6 +257,8 @@ TEST(ControlOutput, StatsAsJsonAndText) {
   EXPECT_NE(text.find("late start p99    2.250 ms\n"), std::string::npos) << text;
   EXPECT_NE(text.find("bodies            5 (3 awake, 2 asleep)\n"), std::string::npos) << text;
   EXPECT_NE(text.find("bodies diverged   1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("refused clients   7\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("closed on errors  3\n"), std::string::npos) << text;
 }
 
 TEST(ControlOutput, AcksOfSpawnPauseAndStep) {

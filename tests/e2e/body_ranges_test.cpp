@@ -144,7 +144,7 @@ TEST(BodyRanges, ABodyThatDivergesIsRemovedWithAnEventAndNeverSaved) {
   expect_finite_bodies(list);
   run_ok(server, {"step", "24"});
   const std::string log = server.log();
-  const std::string line = "removed body " + std::to_string(flea) + " at tick " + std::to_string(stepped);
+  const std::string line = "removed body " + std::to_string(flea) + " 'flea' at tick " + std::to_string(stepped);
   EXPECT_NE(log.find(line), std::string::npos) << log;
   EXPECT_EQ(log.find(line), log.rfind(line)) << "logged more than once\n" << log;
 

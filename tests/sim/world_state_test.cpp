@@ -248,6 +248,22 @@ TEST(WorldState, NamesThisServerRefusesAreClearedNotTheWorld) {
   EXPECT_EQ(allowed.bodies(2).name(), "b");
 }
 
+TEST(WorldState, MomentaThatGiveAVelocityOutsideTheRangesAreRefused) {
+  // p / m = 1e12 m/s: finite, but a world that took it would save a file it
+  // could not load again.
+  Built original;
+  build(kPile, &original);
+  tumble::v1::WorldState state;
+  capture_world(original.world, original.directory, original.loads, &state);
+  const physics::BodyId id = state.bodies(3).id();
+  state.mutable_bodies(3)->mutable_linear_momentum()->set_x(1e12 * original.world.mass(id));
+  Built restored;
+  const Status status = restore_world(state, &restored.world, &restored.directory, &restored.loads);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("bodies[3]: its momenta give a velocity of [1000000000000.000000"), std::string::npos)
+      << status.message();
+}
+
 TEST(WorldState, ABodySavedWithoutAnOrientationIsRestoredUpright) {
   Built original;
   build(kPile, &original);
