@@ -95,9 +95,8 @@ class TwoClients {
   void submit(const ClientMessage& message) {
     ASSERT_FALSE(check_request(message).has_value()) << message.DebugString();
     if (message.has_step()) open_steps_.push_back(message.request_id());
-    sim_->submit(Command{message, [this, id = message.request_id()](ServerMessage reply) {
-                           replies_[id].push_back(std::move(reply));
-                         }});
+    sim_->submit(Command{
+        message, [this, id = message.request_id()](ServerMessage reply) { replies_[id].push_back(std::move(reply)); }});
   }
 
   // One pass of the loop. A world that is paused once the pass has
