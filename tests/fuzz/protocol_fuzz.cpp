@@ -74,8 +74,9 @@ class Input {
   // the values where limits and arithmetic break.
   double number() {
     constexpr double kInf = std::numeric_limits<double>::infinity();
-    static const double kEdges[] = {0,     1e-9,   1e-6,  1e-3,   1e3,    1e6,  1e9,   -1e9,
-                                    1e10,  -1e10,  1e300, -1e300, 5e-324, kInf, -kInf, std::numeric_limits<double>::quiet_NaN()};
+    static const double kEdges[] = {
+        0,    1e-9,  1e-6,  1e-3,   1e3,    1e6,  1e9,   -1e9,
+        1e10, -1e10, 1e300, -1e300, 5e-324, kInf, -kInf, std::numeric_limits<double>::quiet_NaN()};
     const std::uint8_t b = byte();
     if (b < 240) return (static_cast<int>(b) - 120) / 10.0;
     return kEdges[b - 240];
@@ -105,8 +106,22 @@ class Input {
 };
 
 enum Op : std::uint8_t {
-  kSpawn, kRemove, kForce, kTorque, kImpulse, kSetState, kClear, kPause,
-  kResume, kStep, kReset, kTickRate, kList, kStats, kStreams, kNothing,
+  kSpawn,
+  kRemove,
+  kForce,
+  kTorque,
+  kImpulse,
+  kSetState,
+  kClear,
+  kPause,
+  kResume,
+  kStep,
+  kReset,
+  kTickRate,
+  kList,
+  kStats,
+  kStreams,
+  kNothing,
 };
 
 // One spawn: a sphere, box or capsule of a size from a table, dynamic,
