@@ -4,7 +4,7 @@
 # SECONDS (default 60), starting from its seed corpus. New inputs are kept
 # in build-fuzz/tests/fuzz/corpus/<target>/ and grow from run to run; a
 # crash leaves its input in build-fuzz/tests/fuzz/ and fails the script.
-#   scripts/fuzz.sh [SECONDS]        (JOBS=2, BUILD_DIR=build-fuzz)
+#   scripts/fuzz.sh [SECONDS]        (JOBS=2, BUILD_DIR=build-fuzz, TARGETS="frame scene state protocol")
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -12,7 +12,7 @@ root=$PWD
 seconds=${1:-60}
 BUILD_DIR=${BUILD_DIR:-build-fuzz}
 JOBS=${JOBS:-2}
-targets=(frame scene state)
+read -r -a targets <<<"${TARGETS:-frame scene state protocol}"
 
 ./scripts/install-deps.sh --fuzz
 

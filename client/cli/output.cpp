@@ -171,6 +171,21 @@ std::string motion_name(tumble::v1::Motion motion) {
   }
 }
 
+const char* step_end_word(tumble::v1::StepEnd end) {
+  switch (end) {
+    case tumble::v1::STEP_END_COMPLETED:
+      return "completed";
+    case tumble::v1::STEP_END_PAUSE:
+      return "pause";
+    case tumble::v1::STEP_END_RESUME:
+      return "resume";
+    case tumble::v1::STEP_END_RESET:
+      return "reset";
+    default:
+      return "unknown";
+  }
+}
+
 std::string format_ack(const tumble::v1::Ack& ack) {
   return "applied at tick " + std::to_string(ack.applied_tick()) + "\n";
 }
@@ -180,6 +195,10 @@ Json ack_json(const tumble::v1::Ack& ack) {
   if (ack.has_body_id()) out["body_id"] = ack.body_id();
   out["applied_tick"] = ack.applied_tick();
   out["request_id"] = ack.request_id();
+  if (ack.has_step_ticks_left()) {
+    out["step_ended_by"] = step_end_word(ack.step_ended_by());
+    out["step_ticks_left"] = ack.step_ticks_left();
+  }
   return out;
 }
 
@@ -192,7 +211,18 @@ std::string format_paused(const tumble::v1::Ack& ack) {
 }
 
 std::string format_stepped(const tumble::v1::Ack& ack) {
-  return "stepped to tick " + std::to_string(ack.applied_tick()) + "\n";
+  std::string out = "stepped to tick " + std::to_string(ack.applied_tick());
+  switch (ack.step_ended_by()) {
+    case tumble::v1::STEP_END_PAUSE:
+    case tumble::v1::STEP_END_RESUME:
+    case tumble::v1::STEP_END_RESET:
+      out += ", cut short by a " + std::string(step_end_word(ack.step_ended_by())) + " with " +
+             std::to_string(ack.step_ticks_left()) + " ticks left";
+      break;
+    default:
+      break;
+  }
+  return out + "\n";
 }
 
 std::string format_stats(const tumble::v1::Stats& stats) {

@@ -41,8 +41,12 @@ std::string motion_name(tumble::v1::Motion motion);
 std::string format_ack(const tumble::v1::Ack& ack);
 
 // {"applied_tick": N, "request_id": R}, with "body_id" first when the Ack
-// carries one (SpawnBody).
+// carries one (SpawnBody), and "step_ended_by" (step_end_word) and
+// "step_ticks_left" last when it answers a Step.
 Json ack_json(const tumble::v1::Ack& ack);
+
+// What ended a Step, in one word: "completed", "pause", "resume", "reset".
+const char* step_end_word(tumble::v1::StepEnd end);
 
 // "spawned body 7 at tick 1234\n".
 std::string format_spawned(const tumble::v1::Ack& ack);
@@ -50,7 +54,8 @@ std::string format_spawned(const tumble::v1::Ack& ack);
 // "paused at tick 1234\n".
 std::string format_paused(const tumble::v1::Ack& ack);
 
-// "stepped to tick 1234\n".
+// "stepped to tick 1234\n", or, for a Step another client's request cut
+// short, "stepped to tick 1234, cut short by a resume with 766 ticks left\n".
 std::string format_stepped(const tumble::v1::Ack& ack);
 
 // One "label  value" line per figure: tick, sim time, paused, tick rate,

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <google/protobuf/io/coded_stream.h>
@@ -47,6 +48,20 @@ physics::Vec3 body_point(const physics::World& world, physics::BodyId body, bool
 
 bool is_dynamic(const physics::World& world, physics::BodyId id) {
   return world.motion_type(id) == physics::MotionType::dynamic_body;
+}
+
+// The request that cut a Step short with `end`, for the log.
+const char* clock_request_name(tumble::v1::StepEnd end) {
+  switch (end) {
+    case tumble::v1::STEP_END_PAUSE:
+      return "Pause";
+    case tumble::v1::STEP_END_RESUME:
+      return "Resume";
+    case tumble::v1::STEP_END_RESET:
+      return "Reset";
+    default:
+      return "request";
+  }
 }
 
 }  // namespace
@@ -317,6 +332,7 @@ ServerMessage Simulation::clear_forces(const ClientMessage& message) {
 }
 
 ServerMessage Simulation::pause(const ClientMessage& message) {
+  end_step(tumble::v1::STEP_END_PAUSE);
   if (!paused_) sim_log().info("paused at tick {}", next_tick_);
   paused_ = true;
   paused_flag_.store(true, std::memory_order_relaxed);
@@ -324,6 +340,7 @@ ServerMessage Simulation::pause(const ClientMessage& message) {
 }
 
 ServerMessage Simulation::resume(const ClientMessage& message) {
+  end_step(tumble::v1::STEP_END_RESUME);
   if (paused_) sim_log().info("resumed at tick {}", next_tick_);
   paused_ = false;
   paused_flag_.store(false, std::memory_order_relaxed);
@@ -344,6 +361,20 @@ std::optional<ServerMessage> Simulation::step(Command& command) {
   return std::nullopt;
 }
 
+void Simulation::end_step(tumble::v1::StepEnd end) {
+  if (!step_command_.message.has_step()) return;  // no Step under way
+  if (end != tumble::v1::STEP_END_COMPLETED) {
+    sim_log().info("a Step of {} ticks was cut short by a {} at tick {}, {} ticks before its end",
+                   step_command_.message.step().ticks(), clock_request_name(end), next_tick_, steps_left_);
+  }
+  ServerMessage reply = ack_reply(step_command_.message, next_tick_);
+  reply.mutable_ack()->set_step_ticks_left(steps_left_);
+  reply.mutable_ack()->set_step_ended_by(end);
+  steps_left_ = 0;
+  const Command ended = std::exchange(step_command_, Command{});
+  if (ended.reply) ended.reply(std::move(reply));
+}
+
 ServerMessage Simulation::reset(const ClientMessage& message) {
   physics::World fresh;
   fresh.set_settings(world_.settings());
@@ -355,6 +386,8 @@ ServerMessage Simulation::reset(const ClientMessage& message) {
   }
   // The scene's bodies get their first ids again; ids handed out since are never reused.
   fresh.set_next_body_id(world_.next_body_id());
+  // A Step ends with the world it stepped, at the tick it reached.
+  end_step(tumble::v1::STEP_END_RESET);
   const std::uint64_t tick = edit_tick();
   events_.push_back({tick, WorldEventKind::world_reset, physics::kInvalidBodyId, {}});
   // Ids below the scene's body count are the scene's bodies in both worlds

@@ -240,10 +240,7 @@ void Simulation::advance() {
     sleep_.scan(world_, directory_, next_tick_, &events_);
   }
 
-  if (steps_left_ > 0 && --steps_left_ == 0) {
-    if (step_command_.reply) step_command_.reply(ack_reply(step_command_.message, next_tick_));
-    step_command_ = Command{};
-  }
+  if (steps_left_ > 0 && --steps_left_ == 0) end_step(tumble::v1::STEP_END_COMPLETED);
   flush_events();
   const PublishPlan::Due due = plan_publish();
   if (due == PublishPlan::Due::nothing) {

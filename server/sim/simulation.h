@@ -15,8 +15,11 @@
 // Paused, the loop keeps its cadence and keeps applying commands, but does
 // not step: the tick stays put. A Step request then runs its ticks back to
 // back (at most one tick period of wall time per pass, so commands are
-// still served between bursts). An edit of the world while paused is
-// published at once as an out-of-band snapshot of the current tick.
+// still served between bursts). A Pause, Resume or Reset ends a Step under
+// way, which is answered then with the tick it reached; so a Step runs only
+// while paused, and a paused world's tick moves only through a Step. An
+// edit of the world while paused is published at once as an out-of-band
+// snapshot of the current tick.
 //
 // The tick and sim time only ever grow: Reset puts the bodies back but not
 // the clock, and SetTickRate changes dt from the next tick on.
@@ -219,8 +222,12 @@ class Simulation {
   ServerMessage clear_forces(const ClientMessage& message);
   ServerMessage pause(const ClientMessage& message);
   ServerMessage resume(const ClientMessage& message);
-  // Empty when the Step is accepted: its Ack comes when its ticks are done.
+  // Empty when the Step is accepted: its Ack comes when its ticks are done
+  // or end_step() cuts it short.
   std::optional<ServerMessage> step(Command& command);
+  // Answers the Step under way, if any, with the tick reached, the ticks
+  // left (steps_left_) and `end`, and forgets it.
+  void end_step(tumble::v1::StepEnd end);
   ServerMessage reset(const ClientMessage& message);
   ServerMessage set_tick_rate(const ClientMessage& message);
   ServerMessage stats(const ClientMessage& message) const;
@@ -239,8 +246,8 @@ class Simulation {
   std::uint64_t rate_since_tick_ = 0;  // the tick at which dt_ took effect
   double rate_since_time_ = 0;         // s, sim time at that tick
   bool paused_ = false;
-  std::uint32_t steps_left_ = 0;       // ticks of the Step under way
-  Command step_command_;               // the Step under way, answered when steps_left_ reaches 0
+  std::uint32_t steps_left_ = 0;       // ticks of the Step under way; never above 0 while running
+  Command step_command_;               // the Step under way (empty when none), answered by end_step()
   bool edited_ = false;                // the world was edited since the last snapshot
   std::uint64_t bodies_diverged_ = 0;  // removed by remove_diverged() since the start
   SleepWatch sleep_;                   // watching while sleep_events_wanted_

@@ -2,6 +2,7 @@
 // command lines, the requests built from them, and what they print.
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -271,6 +272,28 @@ TEST(ControlOutput, AcksOfSpawnPauseAndStep) {
   ack.set_body_id(0);
   EXPECT_EQ(format_spawned(ack), "spawned body 0 at tick 77\n");
   EXPECT_EQ(json_line(ack_json(ack)), "{\"body_id\": 0, \"applied_tick\": 77, \"request_id\": 2}\n");
+}
+
+TEST(ControlOutput, AStepSaysWhatCutItShortAndHowManyTicksItLeft) {
+  tumble::v1::Ack ack;
+  ack.set_request_id(3);
+  ack.set_applied_tick(1234);
+  ack.set_step_ticks_left(0);
+  ack.set_step_ended_by(tumble::v1::STEP_END_COMPLETED);
+  EXPECT_EQ(format_stepped(ack), "stepped to tick 1234\n");
+  EXPECT_EQ(json_line(ack_json(ack)),
+            "{\"applied_tick\": 1234, \"request_id\": 3, \"step_ended_by\": \"completed\", \"step_ticks_left\": 0}\n");
+  const std::pair<tumble::v1::StepEnd, const char*> ends[] = {{tumble::v1::STEP_END_PAUSE, "pause"},
+                                                              {tumble::v1::STEP_END_RESUME, "resume"},
+                                                              {tumble::v1::STEP_END_RESET, "reset"}};
+  for (const auto& [end, word] : ends) {
+    ack.set_step_ended_by(end);
+    ack.set_step_ticks_left(766);
+    EXPECT_EQ(format_stepped(ack),
+              "stepped to tick 1234, cut short by a " + std::string(word) + " with 766 ticks left\n");
+    EXPECT_EQ(json_line(ack_json(ack)), "{\"applied_tick\": 1234, \"request_id\": 3, \"step_ended_by\": \"" +
+                                            std::string(word) + "\", \"step_ticks_left\": 766}\n");
+  }
 }
 
 TEST(ControlOutput, WorldEvents) {

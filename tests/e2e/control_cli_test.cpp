@@ -3,6 +3,7 @@
 // stepped, so every number is a function of ticks, not of timing.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -147,6 +148,28 @@ TEST_F(ControlCliTest, StepFiveAdvancesExactlyFiveTicks) {
     later = run_json({"stats"})["tick"].get<std::uint64_t>();
   }
   EXPECT_GT(later, tick + 30) << "running again after resume";
+}
+
+TEST_F(ControlCliTest, AStepCutShortByAnotherClientsResumeSaysSo) {
+  const std::uint64_t tick = pause();
+  BackgroundCli stepper(server_, {"--timeout", "120", "step", "1000000"});
+  // Under way once the paused tick moves.
+  std::uint64_t now = tick;
+  for (int i = 0; i < 500 && now == tick; ++i) now = run_json({"stats"})["tick"].get<std::uint64_t>();
+  ASSERT_GT(now, tick) << "the step never started";
+  const std::uint64_t resumed = run_json({"resume"})["applied_tick"].get<std::uint64_t>();
+  const CommandResult stepped = stepper.finish();
+  ASSERT_EQ(stepped.exit_code, 0) << stepped.err;
+  // "stepped to tick T, cut short by a resume with L ticks left", T + L = tick + 1000000.
+  unsigned long long reached = 0;
+  unsigned long long left = 0;
+  ASSERT_EQ(std::sscanf(stepped.out.c_str(), "stepped to tick %llu, cut short by a resume with %llu ticks left\n",
+                        &reached, &left),
+            2)
+      << stepped.out;
+  EXPECT_EQ(reached + left, tick + 1000000) << stepped.out;
+  EXPECT_EQ(resumed, reached + 1) << "the Resume's first tick follows the last the step reached";
+  EXPECT_FALSE(run_json({"stats"})["paused"].get<bool>());
 }
 
 TEST_F(ControlCliTest, ResetRestoresTheScene) {

@@ -419,6 +419,8 @@ TEST_F(ControlTest, StepRunsExactlyItsTicksAndAcksTheLast) {
   const ServerMessage stepped = driver_.request(step_message(5));
   ASSERT_TRUE(stepped.has_ack()) << stepped.DebugString();
   EXPECT_EQ(stepped.ack().applied_tick(), start + 5);
+  EXPECT_EQ(stepped.ack().step_ended_by(), tumble::v1::STEP_END_COMPLETED);
+  EXPECT_EQ(stepped.ack().step_ticks_left(), 0u);
   EXPECT_EQ(driver_.sim().tick(), start + 5);
   driver_.run(30);
   EXPECT_EQ(driver_.sim().tick(), start + 5) << "still paused after the step";
