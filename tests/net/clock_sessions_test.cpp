@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "clock_requests.h"
 #include "raw_client.h"
 #include "requests.h"
 #include "test_server.h"
@@ -29,52 +30,11 @@ const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
     {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
 
-enum class ClockRequest { pause, resume, step, reset, set_tick_rate };
-
 // A's Step: the most a Step may ask for, so it is still under way for
 // B's request (seconds of stepping, against milliseconds of round trips).
 constexpr std::uint32_t kLongStep = 1000000;
 // B's Step, which nothing cuts short.
 constexpr std::uint32_t kShortStep = 5;
-
-const char* name_of(ClockRequest kind) {
-  switch (kind) {
-    case ClockRequest::pause:
-      return "Pause";
-    case ClockRequest::resume:
-      return "Resume";
-    case ClockRequest::step:
-      return "Step";
-    case ClockRequest::reset:
-      return "Reset";
-    case ClockRequest::set_tick_rate:
-      return "SetTickRate";
-  }
-  return "?";
-}
-
-ClientMessage clock_request(ClockRequest kind, std::uint64_t id, std::uint32_t step_ticks) {
-  ClientMessage m;
-  m.set_request_id(id);
-  switch (kind) {
-    case ClockRequest::pause:
-      m.mutable_pause();
-      break;
-    case ClockRequest::resume:
-      m.mutable_resume();
-      break;
-    case ClockRequest::step:
-      m.mutable_step()->set_ticks(step_ticks);
-      break;
-    case ClockRequest::reset:
-      m.mutable_reset();
-      break;
-    case ClockRequest::set_tick_rate:
-      m.mutable_set_tick_rate()->set_rate_hz(120);
-      break;
-  }
-  return m;
-}
 
 // A connection that keeps every reply it reads, by request id, so that a
 // reply that comes twice, or to a request never sent, is seen.
@@ -171,9 +131,6 @@ void expect_refused(const ServerMessage& reply, const std::string& what) {
   ASSERT_TRUE(reply.has_error()) << what << ": " << reply.DebugString();
   EXPECT_EQ(reply.error().code(), tumble::v1::FAILED_PRECONDITION) << what;
 }
-
-// What gtest prints of a request in a case's parameters.
-void PrintTo(ClockRequest kind, std::ostream* os) { *os << name_of(kind); }
 
 using Pair = std::tuple<ClockRequest, ClockRequest>;
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "clock_requests.h"
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
@@ -20,6 +21,9 @@
 namespace tumble::sim {
 namespace {
 
+using tumble::test::clock_request;
+using tumble::test::ClockRequest;
+using tumble::test::name_of;
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 using tumble::v1::StepEnd;
@@ -28,7 +32,6 @@ using tumble::v1::StepEnd;
 const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
 
-enum class ClockRequest { pause, resume, step, reset, set_tick_rate };
 enum class Start { paused, running };
 
 // run_tick() steps one tick of a Step a pass, so a Step of 4 ticks is
@@ -37,45 +40,6 @@ constexpr std::uint32_t kStepTicks = 4;
 constexpr std::uint64_t kStartTick = 3;
 // Passes after B's request: more than a Step needs to finish.
 constexpr int kSettlePasses = 8;
-
-const char* name_of(ClockRequest kind) {
-  switch (kind) {
-    case ClockRequest::pause:
-      return "Pause";
-    case ClockRequest::resume:
-      return "Resume";
-    case ClockRequest::step:
-      return "Step";
-    case ClockRequest::reset:
-      return "Reset";
-    case ClockRequest::set_tick_rate:
-      return "SetTickRate";
-  }
-  return "?";
-}
-
-ClientMessage clock_request(ClockRequest kind, std::uint64_t id, std::uint32_t step_ticks = kStepTicks) {
-  ClientMessage m;
-  m.set_request_id(id);
-  switch (kind) {
-    case ClockRequest::pause:
-      m.mutable_pause();
-      break;
-    case ClockRequest::resume:
-      m.mutable_resume();
-      break;
-    case ClockRequest::step:
-      m.mutable_step()->set_ticks(step_ticks);
-      break;
-    case ClockRequest::reset:
-      m.mutable_reset();
-      break;
-    case ClockRequest::set_tick_rate:
-      m.mutable_set_tick_rate()->set_rate_hz(120);
-      break;
-  }
-  return m;
-}
 
 // One Simulation and the replies its clients got, every one kept (so a
 // second reply to a request is seen), checking after each pass that a
@@ -255,16 +219,16 @@ TEST_P(ClockPairTest, EachIsAnsweredOnceAtItsTickAndAPausedTickStays) {
   TwoClients clients;
   clients.passes(static_cast<int>(kStartTick));
   if (c.start == Start::paused) {
-    clients.submit(clock_request(R::pause, 1));
+    clients.submit(clock_request(R::pause, 1, kStepTicks));
     clients.pass();
     ASSERT_EQ(clients.replies_to(1).size(), 1u);
   }
   ASSERT_EQ(clients.sim().tick(), kStartTick);
   ASSERT_EQ(clients.sim().paused(), c.start == Start::paused);
 
-  clients.submit(clock_request(c.first, 10));  // client A
+  clients.submit(clock_request(c.first, 10, kStepTicks));  // client A
   clients.pass();
-  clients.submit(clock_request(c.second, 20));  // client B
+  clients.submit(clock_request(c.second, 20, kStepTicks));  // client B
   clients.pass();
   clients.passes(kSettlePasses);
 
@@ -300,18 +264,18 @@ TEST(ClockPairs, TheTableHoldsEveryOrderedPairFromBothStarts) {
 // accepted again.
 TEST(ClockPairs, AResumeAnswersALongStepAndALaterPauseHolds) {
   TwoClients clients;
-  clients.submit(clock_request(R::pause, 1));
+  clients.submit(clock_request(R::pause, 1, kStepTicks));
   clients.pass();
   clients.submit(clock_request(R::step, 2, 300000));
   clients.passes(5);
   ASSERT_TRUE(clients.replies_to(2).empty()) << "under way";
-  clients.submit(clock_request(R::resume, 3));
+  clients.submit(clock_request(R::resume, 3, kStepTicks));
   clients.pass();
   expect_reply(clients.replies_to(2), step_ack(5, kByResume, 300000 - 5), "the long Step");
   expect_reply(clients.replies_to(3), ack(6), "the Resume");
 
   clients.passes(4);
-  clients.submit(clock_request(R::pause, 4));
+  clients.submit(clock_request(R::pause, 4, kStepTicks));
   clients.pass();
   expect_reply(clients.replies_to(4), ack(10), "the Pause");
   clients.passes(50);
@@ -326,13 +290,13 @@ TEST(ClockPairs, AResumeAnswersALongStepAndALaterPauseHolds) {
 // other, and the next client's Step runs.
 TEST(ClockPairs, AStepWithNoOneToAnswerEndsQuietly) {
   TwoClients clients;
-  clients.submit(clock_request(R::pause, 1));
+  clients.submit(clock_request(R::pause, 1, kStepTicks));
   clients.pass();
   ClientMessage orphan = clock_request(R::step, 2, 1000);
   clients.sim().submit(Command{orphan, nullptr});
   for (int i = 0; i < 3; ++i) clients.sim().run_tick();  // not pass(): this Step is open without a reply to await
   EXPECT_EQ(clients.sim().tick(), 3u);
-  clients.submit(clock_request(R::pause, 3));
+  clients.submit(clock_request(R::pause, 3, kStepTicks));
   clients.pass();
   expect_reply(clients.replies_to(3), ack(3), "the Pause");
   clients.submit(clock_request(R::step, 4, 2));
