@@ -1,6 +1,7 @@
 #include "net/allowed_hosts.h"
 
 #include <algorithm>
+#include <string>
 #include <utility>
 
 namespace tumble::net {
@@ -22,29 +23,49 @@ std::string_view name_of(std::string_view host) {
 
 bool has_port(std::string_view entry) { return name_of(entry).size() < entry.size(); }
 
-// "[::1]" for an IPv6 address, the name or IPv4 address as it is.
-std::string bracketed(const std::string& host) {
-  return host.find(':') != std::string::npos && host.front() != '[' ? "[" + host + "]" : host;
+// True for a dotted-quad IPv4 address ("10.0.0.5") or a bracketed IPv6
+// one ("[::1]"), as a Host header names them.
+bool is_ip_address(std::string_view name) {
+  if (name.size() > 2 && name.front() == '[' && name.back() == ']') {
+    const std::string_view inner = name.substr(1, name.size() - 2);
+    return inner.find(':') != std::string_view::npos && std::all_of(inner.begin(), inner.end(), [](char c) {
+             return (c >= '0' && c <= '9') || (lower(c) >= 'a' && lower(c) <= 'f') || c == ':' || c == '.';
+           });
+  }
+  int parts = 0;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t dot = name.find('.', start);
+    const std::string_view part = name.substr(start, dot == std::string_view::npos ? name.npos : dot - start);
+    if (part.empty() || part.size() > 3 ||
+        !std::all_of(part.begin(), part.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      return false;
+    }
+    if (std::stoi(std::string(part)) > 255) return false;
+    ++parts;
+    if (dot == std::string_view::npos) break;
+    start = dot + 1;
+  }
+  return parts == 4;
 }
 
 }  // namespace
 
 AllowedHosts::AllowedHosts(std::vector<std::string> entries) : entries_(std::move(entries)) {}
 
-AllowedHosts AllowedHosts::defaults(const std::string& listen_host, std::uint16_t port) {
-  std::vector<std::string> entries;
-  for (const std::string& name :
-       {bracketed(listen_host), std::string("localhost"), std::string("127.0.0.1"), std::string("[::1]")}) {
-    for (std::string entry : {name + ":" + std::to_string(port), port == 80 ? name : std::string()}) {
-      if (!entry.empty() && std::find(entries.begin(), entries.end(), entry) == entries.end()) {
-        entries.push_back(std::move(entry));
-      }
-    }
+AllowedHosts AllowedHosts::defaults(const std::string& listen_host) {
+  std::vector<std::string> entries{"localhost"};
+  if (!listen_host.empty() && !is_ip_address(listen_host) && !equal_ignoring_case(listen_host, "localhost") &&
+      listen_host.find(':') == std::string::npos) {
+    entries.push_back(listen_host);
   }
-  return AllowedHosts(std::move(entries));
+  AllowedHosts hosts(std::move(entries));
+  hosts.any_ip_address_ = true;
+  return hosts;
 }
 
 bool AllowedHosts::allows(std::string_view host) const {
+  if (any_ip_address_ && is_ip_address(name_of(host))) return true;
   return std::any_of(entries_.begin(), entries_.end(), [&](const std::string& entry) {
     if (entry == "*") return true;
     return has_port(entry) ? equal_ignoring_case(entry, host) : equal_ignoring_case(entry, name_of(host));

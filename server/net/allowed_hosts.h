@@ -6,7 +6,9 @@
 //
 // An entry is "name:port" (that port only), "name" (any port, or none), or
 // "*" (any Host: the check is off). Names compare without regard to case;
-// an IPv6 address is written in brackets, "[::1]:8080".
+// an IPv6 address is written in brackets, "[::1]:8080". The defaults also
+// serve any Host that is an IP address: a rebinding page sends its own
+// name, never an address.
 //
 // Thread: immutable once made; shared by the HTTP connections.
 #pragma once
@@ -20,20 +22,25 @@ namespace tumble::net {
 
 class AllowedHosts {
  public:
+  // Exactly `entries`.
   explicit AllowedHosts(std::vector<std::string> entries);
 
-  // The defaults for an endpoint bound to `listen_host`:`port`: that address,
-  // localhost, 127.0.0.1 and [::1], each with the port (and without it when
-  // the port is 80, HTTP's own).
-  static AllowedHosts defaults(const std::string& listen_host, std::uint16_t port);
+  // The defaults for an endpoint bound to `listen_host`: localhost and that
+  // name (when it is a name), at any port, and every IP address at any
+  // port. The port is left open because a container's published port or a
+  // proxy changes it and the name is what tells a rebinding page.
+  static AllowedHosts defaults(const std::string& listen_host);
 
   // True when a request with this Host header value is served.
   bool allows(std::string_view host) const;
 
   const std::vector<std::string>& entries() const { return entries_; }
+  // True when every Host that is an IP address is served (the defaults).
+  bool any_ip_address() const { return any_ip_address_; }
 
  private:
   std::vector<std::string> entries_;
+  bool any_ip_address_ = false;
 };
 
 }  // namespace tumble::net

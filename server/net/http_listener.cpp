@@ -28,9 +28,10 @@ sim::Status HttpListener::start() {
   }
   port_ = acceptor_.local_endpoint().port();
   allowed_hosts_ = std::make_shared<const AllowedHosts>(
-      limits_.allowed_hosts.empty() ? AllowedHosts::defaults(host_, port_) : AllowedHosts(limits_.allowed_hosts));
+      limits_.allowed_hosts.empty() ? AllowedHosts::defaults(host_) : AllowedHosts(limits_.allowed_hosts));
   std::string names;
   for (const std::string& entry : allowed_hosts_->entries()) names += (names.empty() ? "" : ", ") + entry;
+  if (allowed_hosts_->any_ip_address()) names += ", any IP address";
   net_log().info("serving HTTP and WebSocket clients on {}:{} as {}", host_, port_, names);
   accept_next();
   return {};

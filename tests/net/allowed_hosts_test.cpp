@@ -7,19 +7,29 @@
 namespace tumble::net {
 namespace {
 
-TEST(AllowedHosts, TheDefaultsAreTheListenAddressAndLoopbackNamesWithThePort) {
-  const AllowedHosts hosts = AllowedHosts::defaults("0.0.0.0", 8080);
-  EXPECT_EQ(hosts.entries(),
-            (std::vector<std::string>{"0.0.0.0:8080", "localhost:8080", "127.0.0.1:8080", "[::1]:8080"}));
+TEST(AllowedHosts, TheDefaultsAreLocalhostTheListenNameAndAnyAddressAtAnyPort) {
+  const AllowedHosts hosts = AllowedHosts::defaults("0.0.0.0");
+  EXPECT_EQ(hosts.entries(), (std::vector<std::string>{"localhost"}));
+  EXPECT_TRUE(hosts.any_ip_address());
   EXPECT_TRUE(hosts.allows("localhost:8080"));
-  EXPECT_TRUE(hosts.allows("LOCALHOST:8080"));
-  EXPECT_FALSE(hosts.allows("localhost"));  // port 80
-  EXPECT_FALSE(hosts.allows("localhost:8081"));
+  EXPECT_TRUE(hosts.allows("LOCALHOST"));
+  // A container's published port or a proxy's: the name decides, not the port.
+  EXPECT_TRUE(hosts.allows("127.0.0.1:33005"));
+  EXPECT_TRUE(hosts.allows("192.168.1.20:8080"));
+  EXPECT_TRUE(hosts.allows("[::1]:9000"));
+  EXPECT_TRUE(hosts.allows("[fe80::1]"));
+  // A rebinding page sends its own name.
   EXPECT_FALSE(hosts.allows("attacker.example:8080"));
+  EXPECT_FALSE(hosts.allows("127.0.0.1.attacker.example"));
+  EXPECT_FALSE(hosts.allows("localhost.attacker.example:8080"));
+  EXPECT_FALSE(hosts.allows("1.2.3"));
+  EXPECT_FALSE(hosts.allows("256.1.1.1:80"));
+  EXPECT_FALSE(hosts.allows("[attacker]:80"));
   EXPECT_FALSE(hosts.allows(""));
-  // An IPv6 listen address is bracketed; on port 80 the names without a port are served too.
-  EXPECT_EQ(AllowedHosts::defaults("::1", 80).entries(),
-            (std::vector<std::string>{"[::1]:80", "[::1]", "localhost:80", "localhost", "127.0.0.1:80", "127.0.0.1"}));
+  // A listen name is served; a listen address adds nothing to any IP address.
+  EXPECT_EQ(AllowedHosts::defaults("tumble.lan").entries(), (std::vector<std::string>{"localhost", "tumble.lan"}));
+  EXPECT_TRUE(AllowedHosts::defaults("tumble.lan").allows("Tumble.LAN:8080"));
+  EXPECT_EQ(AllowedHosts::defaults("::1").entries(), (std::vector<std::string>{"localhost"}));
 }
 
 TEST(AllowedHosts, ANameWithoutAPortAllowsAnyAndStarAllowsEverything) {
@@ -31,6 +41,8 @@ TEST(AllowedHosts, ANameWithoutAPortAllowsAnyAndStarAllowsEverything) {
   EXPECT_FALSE(hosts.allows("lab.example:90"));
   EXPECT_TRUE(hosts.allows("[fe80::1]:8080"));
   EXPECT_FALSE(hosts.allows("viewer.example.attacker.example"));
+  EXPECT_FALSE(hosts.any_ip_address());  // a list is exactly what it says
+  EXPECT_FALSE(hosts.allows("127.0.0.1:8080"));
   EXPECT_TRUE(AllowedHosts({"*"}).allows("anything.example:1"));
 }
 
