@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frames/pose_frames.h"
 #include "net/session.h"
 #include "wire/frame.h"
 
@@ -293,31 +294,10 @@ std::shared_ptr<const std::string> Publisher::encode(Stream& stream, const sim::
   frame.set_tick(snapshot.tick);
   frame.set_sim_time(snapshot.sim_time);
   if (stream.encoding == tumble::v1::POSE_ENCODING_QUANTIZED) {
-    frame.set_encoding(tumble::v1::POSE_ENCODING_QUANTIZED);
-    const std::vector<wire::QuantizedBody> bodies =
-        stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities);
-    frame.set_packed(wire::encode_quantized_poses(bodies, stream.velocities));
-    return std::make_shared<const std::string>(wire::encode_frame(message));
-  }
-  const std::size_t n = stream.all_bodies ? snapshot.body_count() : stream.bodies.size();
-  frame.mutable_ids()->Reserve(static_cast<int>(n));
-  frame.mutable_positions()->Reserve(static_cast<int>(3 * n));
-  frame.mutable_orientations()->Reserve(static_cast<int>(4 * n));
-  if (stream.velocities) {
-    frame.mutable_linear_velocities()->Reserve(static_cast<int>(3 * n));
-    frame.mutable_angular_velocities()->Reserve(static_cast<int>(3 * n));
-  }
-  for (std::size_t i = 0; i < snapshot.body_count(); ++i) {
-    const physics::BodyId id = snapshot.ids[i];
-    if (!stream.all_bodies && !std::binary_search(stream.bodies.begin(), stream.bodies.end(), id)) continue;
-    frame.add_ids(id);
-    for (std::size_t k = 0; k < 3; ++k) frame.add_positions(static_cast<float>(snapshot.positions[3 * i + k]));
-    for (std::size_t k = 0; k < 4; ++k) frame.add_orientations(static_cast<float>(snapshot.orientations[4 * i + k]));
-    if (!stream.velocities) continue;
-    for (std::size_t k = 0; k < 3; ++k) {
-      frame.add_linear_velocities(static_cast<float>(snapshot.linear_velocities[3 * i + k]));
-      frame.add_angular_velocities(static_cast<float>(snapshot.angular_velocities[3 * i + k]));
-    }
+    frames::fill_quantized(stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities),
+                           stream.velocities, &frame);
+  } else {
+    frames::fill_full(snapshot, stream.all_bodies, stream.bodies, stream.velocities, &frame);
   }
   return std::make_shared<const std::string>(wire::encode_frame(message));
 }
