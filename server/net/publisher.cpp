@@ -4,29 +4,12 @@
 #include <cmath>
 
 #include "frames/pose_frames.h"
+#include "frames/world_events.h"
 #include "net/session.h"
 #include "wire/frame.h"
 
 namespace tumble::net {
 namespace {
-
-tumble::v1::WorldEventKind wire_kind(sim::WorldEventKind kind) {
-  switch (kind) {
-    case sim::WorldEventKind::body_spawned:
-      return tumble::v1::WORLD_EVENT_BODY_SPAWNED;
-    case sim::WorldEventKind::body_removed:
-      return tumble::v1::WORLD_EVENT_BODY_REMOVED;
-    case sim::WorldEventKind::body_asleep:
-      return tumble::v1::WORLD_EVENT_BODY_ASLEEP;
-    case sim::WorldEventKind::body_awake:
-      return tumble::v1::WORLD_EVENT_BODY_AWAKE;
-    case sim::WorldEventKind::world_reset:
-      return tumble::v1::WORLD_EVENT_WORLD_RESET;
-    case sim::WorldEventKind::body_diverged:
-      return tumble::v1::WORLD_EVENT_BODY_DIVERGED;
-  }
-  return tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED;
-}
 
 std::uint32_t kind_bit(int kind) { return std::uint32_t{1} << static_cast<unsigned>(kind); }
 
@@ -188,7 +171,7 @@ void Publisher::publish_latest() {
 }
 
 void Publisher::deliver(const sim::WorldEvent& event) {
-  const tumble::v1::WorldEventKind kind = wire_kind(event.kind);
+  const tumble::v1::WorldEventKind kind = frames::wire_kind(event.kind);
   bool filters_changed = false;
   for (Stream& stream : streams_) {
     const bool names_body =
@@ -196,12 +179,7 @@ void Publisher::deliver(const sim::WorldEvent& event) {
     const bool concerns_stream = stream.all_bodies || names_body || kind == tumble::v1::WORLD_EVENT_WORLD_RESET;
     if (concerns_stream && (stream.event_kinds & kind_bit(kind)) != 0) {
       tumble::v1::ServerMessage message;
-      auto& out = *message.mutable_world_event();
-      out.set_subscription_id(stream.id);
-      out.set_tick(event.tick);
-      out.set_kind(kind);
-      if (event.body != physics::kInvalidBodyId) out.set_body_id(event.body);
-      out.set_body_name(event.name);
+      frames::fill_world_event(event, stream.id, message.mutable_world_event());
       for (const Member& member : stream.members) {
         if (auto session = member.session.lock()) session->send(message);
       }

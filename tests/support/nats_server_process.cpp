@@ -53,11 +53,11 @@ bool NatsServerProcess::start(std::chrono::milliseconds timeout) {
   kill();
   // A log of its own for each run: "Server is ready" is then this run's.
   log_path_ = dir_ + "/nats-" + std::to_string(++runs_) + ".log";
-  std::vector<std::string> argv = {nats_server_path(), "-c", config_path_, "-a", "127.0.0.1",
-                                   "-p", std::to_string(port_), "-l", log_path_};
+  std::vector<std::string> argv = {nats_server_path(),    "-c", config_path_, "-a", "127.0.0.1", "-p",
+                                   std::to_string(port_), "-l", log_path_};
   if (cluster_port_ != 0) {
-    argv.insert(argv.end(), {"--cluster_name", "tumble-test", "--cluster",
-                             "nats://127.0.0.1:" + std::to_string(cluster_port_)});
+    argv.insert(argv.end(),
+                {"--cluster_name", "tumble-test", "--cluster", "nats://127.0.0.1:" + std::to_string(cluster_port_)});
     std::string routes;
     for (const std::uint16_t route : routes_) {
       if (!routes.empty()) routes += ",";

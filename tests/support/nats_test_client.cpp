@@ -139,8 +139,8 @@ std::vector<std::string> NatsTestClient::request_many(const std::string& subject
   natsSubscription* subscription = nullptr;
   natsStatus status = natsConnection_SubscribeSync(&subscription, connection_, inbox);
   if (status == NATS_OK) {
-    status = natsConnection_PublishRequest(connection_, subject.c_str(), inbox, data.data(),
-                                           static_cast<int>(data.size()));
+    status =
+        natsConnection_PublishRequest(connection_, subject.c_str(), inbox, data.data(), static_cast<int>(data.size()));
   }
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (status == NATS_OK) {

@@ -90,8 +90,7 @@ class NatsTestClient {
                                         std::chrono::milliseconds timeout = std::chrono::seconds(5));
 
   // Subscribes and collects; pending limits (messages, bytes) when given. Null on failure.
-  std::unique_ptr<NatsCollector> subscribe(const std::string& subject, int pending_messages = 0,
-                                           int pending_bytes = 0);
+  std::unique_ptr<NatsCollector> subscribe(const std::string& subject, int pending_messages = 0, int pending_bytes = 0);
 
   // Publishes on `subject` until a message comes back on `collector`, which
   // was subscribed on another connection: interest has crossed the cluster.
