@@ -97,7 +97,7 @@ NatsLink::Sent NatsLink::publish(const std::string& subject, std::string_view da
     bytes_out_.fetch_add(data.size(), std::memory_order_relaxed);
     return Sent::ok;
   }
-  return status == NATS_MAX_PAYLOAD ? Sent::too_large
+  return status == NATS_MAX_PAYLOAD                                                 ? Sent::too_large
          : (status == NATS_INSUFFICIENT_BUFFER || status == NATS_CONNECTION_CLOSED) ? Sent::down
                                                                                     : Sent::failed;
 }

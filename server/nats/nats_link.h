@@ -89,8 +89,7 @@ class NatsLink {
   static void on_reconnected(natsConnection* connection, void* closure);
   static void on_closed(natsConnection* connection, void* closure);
   static void on_error(natsConnection* connection, natsSubscription* subscription, natsStatus status, void* closure);
-  static void on_message(natsConnection* connection, natsSubscription* subscription, natsMsg* message,
-                         void* closure);
+  static void on_message(natsConnection* connection, natsSubscription* subscription, natsMsg* message, void* closure);
   // nats.c's last error on the connection, for a log line.
   std::string last_error() const;
 

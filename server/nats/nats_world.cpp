@@ -50,8 +50,7 @@ sim::Status NatsWorld::start() {
   const double tick_rate = sim_.tick_rate_hz();
   std::vector<sim::PublishInterest> interest;
   for (Stream& stream : streams_) {
-    stream.period_ticks =
-        static_cast<std::uint32_t>(std::clamp(std::round(tick_rate / stream.spec.rate_hz), 1.0, 1e6));
+    stream.period_ticks = static_cast<std::uint32_t>(std::clamp(std::round(tick_rate / stream.spec.rate_hz), 1.0, 1e6));
     stream.last_tick = sim_.tick();
     interest.push_back({stream.period_ticks, true, {}});
   }
@@ -64,9 +63,8 @@ sim::Status NatsWorld::start() {
     latest_ = std::move(snapshot);
     wake_.notify_one();
   });
-  sim_.add_event_listener([this](std::shared_ptr<const sim::WorldEvents> events) {
-    post([this, events] { publish_events(*events); });
-  });
+  sim_.add_event_listener(
+      [this](std::shared_ptr<const sim::WorldEvents> events) { post([this, events] { publish_events(*events); }); });
   sim_.add_stats_hook([this](tumble::v1::Stats* stats) { link_.fill(config_.world, stats->mutable_nats()); });
 
   for (std::size_t i = 0; i < streams_.size(); ++i) {
@@ -205,8 +203,8 @@ void NatsWorld::publish_frame(Stream& stream, const sim::Snapshot& snapshot) {
   if (stream.spec.encoding == tumble::v1::POSE_ENCODING_FULL) stream.latest_full = std::move(bytes);
   if (sent != NatsLink::Sent::ok) {
     stream.planner.lost();
-    note_drop(stream, sent, stream.spec.encoding == tumble::v1::POSE_ENCODING_FULL ? stream.latest_full.size()
-                                                                                   : bytes.size());
+    note_drop(stream, sent,
+              stream.spec.encoding == tumble::v1::POSE_ENCODING_FULL ? stream.latest_full.size() : bytes.size());
   }
 }
 
@@ -217,9 +215,10 @@ void NatsWorld::note_drop(Stream& stream, NatsLink::Sent why, std::size_t bytes)
   if (now - stream.last_drop_log < std::chrono::seconds(1)) return;
   stream.last_drop_log = now;
   if (why == NatsLink::Sent::too_large) {
-    log_.warn("NATS stream {}: a frame of {} bytes is over the server's max payload of {} bytes; not published ({} "
-              "frame(s) dropped since the last line)",
-              stream.spec.name, bytes, link_.max_payload(), stream.drops_since_log);
+    log_.warn(
+        "NATS stream {}: a frame of {} bytes is over the server's max payload of {} bytes; not published ({} "
+        "frame(s) dropped since the last line)",
+        stream.spec.name, bytes, link_.max_payload(), stream.drops_since_log);
   } else if (why == NatsLink::Sent::down) {
     log_.debug("NATS stream {}: the link is down; {} frame(s) not published since the last line", stream.spec.name,
                stream.drops_since_log);
@@ -305,9 +304,8 @@ void NatsWorld::answer_rpc(NatsRequest request) {
       for (const StreamSpec& spec : config_.streams) streams += (streams.empty() ? "" : ", ") + spec.name;
       answer(sim::error_reply(message, tumble::v1::INVALID_ARGUMENT,
                               "subscriptions are not made over " + rpc_subject(config_.world) + ": subscribe on " +
-                                  poses_subject(config_.world, config_.streams.front().name) +
-                                  " (streams: " + streams + "; a key frame: request on " +
-                                  key_subject(config_.world, "<stream>") + ")"));
+                                  poses_subject(config_.world, config_.streams.front().name) + " (streams: " + streams +
+                                  "; a key frame: request on " + key_subject(config_.world, "<stream>") + ")"));
       return;
     }
     default:
@@ -338,10 +336,9 @@ void NatsWorld::send_reply(const std::string& reply, const ServerMessage& messag
   ServerMessage error;
   error.mutable_error()->set_request_id(request_id);
   error.mutable_error()->set_code(tumble::v1::RESOURCE_EXHAUSTED);
-  error.mutable_error()->set_message("the reply of " + std::to_string(bytes.size()) +
-                                     " bytes is over the NATS server's max payload of " +
-                                     std::to_string(link_.max_payload()) +
-                                     " bytes; ask for less (ListBodies.max_bodies)");
+  error.mutable_error()->set_message(
+      "the reply of " + std::to_string(bytes.size()) + " bytes is over the NATS server's max payload of " +
+      std::to_string(link_.max_payload()) + " bytes; ask for less (ListBodies.max_bodies)");
   link_.publish(reply, error.SerializeAsString());
 }
 

@@ -187,8 +187,8 @@ TEST_F(NatsWorld, ListBodiesOverRpcIsPaged) {
 }
 
 TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheInterval) {
-  auto tumbled = start_tumbled({"--nats-stream", "q=quantized@60", "--nats-stream", "d=delta@60",
-                                "--nats-key-interval", "0.25"});
+  auto tumbled =
+      start_tumbled({"--nats-stream", "q=quantized@60", "--nats-stream", "d=delta@60", "--nats-key-interval", "0.25"});
   NatsTestClient client(nats_.url());
   auto quantized = client.subscribe("tumble.v1.lab.poses.q");
   auto delta = client.subscribe("tumble.v1.lab.poses.d");
@@ -197,7 +197,8 @@ TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheInter
   for (auto* collector : {quantized.get(), delta.get()}) {
     const std::vector<NatsMessage> messages = collector->messages();
     for (std::size_t i = 1; i < messages.size(); ++i) {
-      EXPECT_EQ(parse(messages[i].data).pose_frame().sequence(), parse(messages[i - 1].data).pose_frame().sequence() + 1);
+      EXPECT_EQ(parse(messages[i].data).pose_frame().sequence(),
+                parse(messages[i - 1].data).pose_frame().sequence() + 1);
     }
   }
   // Key frames at least every 0.25 s of sim time, and not every frame.
@@ -256,8 +257,7 @@ TEST(NatsWorldStart, TumbledStartedWhileNatsIsDownServesTcpAndConnectsLater) {
   NatsServerProcess nats;
   TumbledProcess tumbled(kFloatingScene, {"--nats", nats.url(), "--world", "late"});
   ASSERT_TRUE(tumbled.started()) << tumbled.log();
-  EXPECT_TRUE(poll_until([&] { return tumbled.log().find("NATS link down") != std::string::npos; }))
-      << tumbled.log();
+  EXPECT_TRUE(poll_until([&] { return tumbled.log().find("NATS link down") != std::string::npos; })) << tumbled.log();
   const CommandResult bodies = tumbled.cli({"bodies"});
   EXPECT_EQ(bodies.exit_code, 0) << bodies.err;
   ASSERT_TRUE(nats.start()) << nats.log();

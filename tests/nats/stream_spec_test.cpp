@@ -36,10 +36,11 @@ TEST(StreamSpec, ParsesNameEncodingRateAndFields) {
 
 TEST(StreamSpec, EachBadPartIsNamed) {
   const std::pair<const char*, const char*> cases[] = {
-      {"q60", "does not parse"},          {"q60=quantized", "does not parse"}, {"q.1=full@5", "stream name"},
-      {"=full@5", "stream name"},         {"q=zip@5", "encoding 'zip'"},       {"q=full@0", "rate '0'"},
-      {"q=full@fast", "rate 'fast'"},     {"q=full@1e9", "rate"},              {"q=full@5:vel", "fields 'vel'"},
-      {"q=full@5x", "rate '5x'"},
+      {"q60", "does not parse"},        {"q60=quantized", "does not parse"},
+      {"q.1=full@5", "stream name"},    {"=full@5", "stream name"},
+      {"q=zip@5", "encoding 'zip'"},    {"q=full@0", "rate '0'"},
+      {"q=full@fast", "rate 'fast'"},   {"q=full@1e9", "rate"},
+      {"q=full@5:vel", "fields 'vel'"}, {"q=full@5x", "rate '5x'"},
   };
   for (const auto& [text, expected] : cases) {
     const auto spec = parse_stream_spec(text);
