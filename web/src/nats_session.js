@@ -167,9 +167,9 @@ export class NatsSession {
   }
 
   // Every body, as Session.listAllBodies. An observer may not list them:
-  // its bodies are the ids of the first frame shown at or after the newest
-  // world event (a spawn shows from its event's tick on), with no shape,
-  // which the view draws as a small marker.
+  // its bodies are those of the first frame shown at or after the newest
+  // world event (a spawn shows from its event's tick on), at that frame's
+  // poses, with no shape or name (the view draws a small marker).
   async listAllBodies() {
     if (this.controller) return listPages((startId) => this.request("listBodies", { startId }));
     const frame = await new Promise((resolve, reject) => {
@@ -177,7 +177,12 @@ export class NatsSession {
       else if (this.latest && this.latest.tick >= this.lastEventTick) resolve(this.latest);
       else this.frameWaiters.push({ tick: this.lastEventTick, resolve, reject });
     });
-    return Array.from(frame.ids, (id) => ({ id, name: "", shape: null, mass: 0, motion: 0, asleep: false }));
+    const { positions: p, orientations: q } = frame;
+    return Array.from(frame.ids, (id, i) => ({
+      id, name: "", shape: null, mass: 0, motion: 0, asleep: false,
+      position: { x: p[3 * i], y: p[3 * i + 1], z: p[3 * i + 2] },
+      orientation: { w: q[4 * i], x: q[4 * i + 1], y: q[4 * i + 2], z: q[4 * i + 3] },
+    }));
   }
 
   // The stream's rate, as Subscribed says it: {rateHz, periodTicks}, for
