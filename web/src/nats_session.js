@@ -56,7 +56,7 @@ export async function findWorld(nc, types, name, options) {
   const worlds = await listWorlds(nc, types, options);
   const world = worlds.find((info) => info.world === name);
   if (world) return world;
-  const others = worlds.map((info) => info.world);
+  const others = worlds.map((info) => info.world).sort();  // replies come in any order
   throw new ProtocolError(`no world "${name}" answered on ${kWorldsSubject}` +
                           (others.length ? ` (worlds: ${others.join(", ")})` : " (no world answered)"));
 }
