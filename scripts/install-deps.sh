@@ -35,6 +35,7 @@ packages=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   libbullet-dev libode-dev
   python3-protobuf
+  nats-server libnats-dev
   "${optional[@]}"
   "$@"
 )

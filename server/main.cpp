@@ -3,12 +3,16 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "cpu_keep_awake.h"
+#include "nats/nats_link.h"
+#include "nats/nats_world.h"
 #include "net/asio.h"
 #include "net/server.h"
 #include "options.h"
@@ -129,7 +133,34 @@ int main(int argc, char** argv) {
   }
 
   boost::asio::io_context io;
-  tumble::net::Server server(io, sim, server_config(options));
+  std::optional<tumble::net::Server> server;
+  if (options.serve_tcp) server.emplace(io, sim, server_config(options));
+  // The NATS side: connects (or keeps trying) in the background.
+  std::unique_ptr<tumble::nats::NatsLink> nats_link;
+  std::unique_ptr<tumble::nats::NatsWorld> nats_world;
+  if (!options.nats_urls.empty()) {
+    tumble::nats::NatsLinkConfig link_config;
+    link_config.urls = options.nats_urls;
+    link_config.creds_file = options.nats_creds_path;
+    link_config.name = "tumbled " + options.world;
+    nats_link = std::make_unique<tumble::nats::NatsLink>(link_config, *log);
+    tumble::nats::NatsWorldConfig world_config;
+    world_config.world = options.world;
+    world_config.streams = options.nats_streams;
+    world_config.key_interval_s = options.nats_key_interval_seconds;
+    world_config.sleep_events = options.nats_sleep_events;
+    world_config.version = tumble::kVersion;
+    nats_world = std::make_unique<tumble::nats::NatsWorld>(sim, *nats_link, world_config, *log);
+    if (auto status = nats_link->start(); !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+    if (auto status = nats_world->start(); !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+    log->info("serving world '{}' over NATS ({} stream(s))", options.world, options.nats_streams.size());
+  }
   // The handlers are in place before anyone can learn the port: a SIGINT
   // or SIGTERM sent as soon as the port file appears stops the server
   // cleanly (saving the world) instead of killing it. One that comes
@@ -138,20 +169,25 @@ int main(int argc, char** argv) {
   signals.async_wait([&](const boost::system::error_code& error, int signal) {
     if (error) return;
     log->info("received {}: shutting down", signal == SIGINT ? "SIGINT" : "SIGTERM");
-    server.stop();
+    if (server) server->stop();
     io.stop();
   });
-  if (auto status = server.start(); !status.ok()) {
-    log->error("{}", status.message());
-    return kExitFailure;
+  if (server) {
+    if (auto status = server->start(); !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+    // The HTTP port first: whoever waits for --port-file then finds both.
+    if (!options.http_port_file.empty()) write_port_file(options.http_port_file, server->http_port());
+    if (!options.port_file.empty()) write_port_file(options.port_file, server->port());
   }
-  // The HTTP port first: whoever waits for --port-file then finds both.
-  if (!options.http_port_file.empty()) write_port_file(options.http_port_file, server.http_port());
-  if (!options.port_file.empty()) write_port_file(options.port_file, server.port());
+  // Without listeners nothing else keeps io.run() busy until a signal.
+  auto keep_running = boost::asio::make_work_guard(io);
 
   sim.start();
   io.run();
   sim.stop();
+  if (nats_world) nats_world->stop();
   if (world.checkpoints) world.checkpoints->stop();  // a late checkpoint must not land after the final save
   log->info("stopped at tick {} ({} overruns)", sim.tick(), sim.overruns());
   if (world.journal && !world.journal->status().ok()) {

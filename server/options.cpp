@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include <algorithm>
+#include <fstream>
 #include <sstream>
 #include <utility>
 
@@ -42,9 +43,12 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
   ServerOptions options;
 
   std::string listen = to_string(options.listen);
-  app.add_option("--listen", listen, "Address to listen on, HOST:PORT (port 0 picks a free one)")
+  app.add_option("--listen", listen,
+                 "Address to listen on, HOST:PORT (port 0 picks a free one), or none: no TCP or HTTP listener "
+                 "(then --nats is required)")
       ->capture_default_str()
-      ->check(check_listen_address);
+      ->check(CLI::Validator(
+          [](std::string& text) { return text == "none" ? std::string() : check_listen_address(text); }, "ADDRESS"));
   app.add_option("--scene", options.scene_path, "Scene file (JSON) to load; an empty world without one");
   app.add_option("--tick-rate", options.tick_rate_hz, "Simulation steps per second, 1 to 10000")
       ->capture_default_str()
@@ -159,6 +163,32 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
                "Keep every CPU of tumbled's affinity mask from halting: a thread on each spins under SCHED_IDLE, "
                "yielding to any other. On a virtual machine a halted CPU can resume milliseconds late; the CPUs "
                "then read as fully busy");
+  // A world served over NATS.
+  std::vector<std::string> nats_stream_specs;
+  auto* nats_option = app.add_option("--nats", options.nats_urls,
+                                     "Serve the world over NATS too: server URLs, comma-separated (nats:// or tls://; "
+                                     "user:password@ or token@ in the URL); reconnects on its own")
+                          ->delimiter(',');
+  auto* world_option =
+      app.add_option("--world", options.world,
+                     "The world's name on NATS (subjects tumble.v1.NAME.*): 1 to 64 of A-Z a-z 0-9 _ -")
+          ->needs(nats_option);
+  nats_option->needs(world_option);
+  app.add_option("--nats-stream", nats_stream_specs,
+                 "A pose stream of every body on tumble.v1.WORLD.poses.NAME: NAME=ENCODING@HZ[:fields], ENCODING "
+                 "full, quantized or delta, fields pose (default) or all; repeatable. Default q60=quantized@60")
+      ->needs(nats_option);
+  app.add_option("--nats-key-interval", options.nats_key_interval_seconds,
+                 "Seconds of sim time between key frames of a delta stream over NATS")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 3600.0))
+      ->needs(nats_option);
+  app.add_option("--nats-creds", options.nats_creds_path, "A NATS .creds file (JWT and NKey seed) to connect with")
+      ->needs(nats_option);
+  app.add_flag("--nats-sleep-events", options.nats_sleep_events,
+               "Also publish bodies falling asleep and waking on tumble.v1.WORLD.events (a scan of the bodies "
+               "after every step)")
+      ->needs(nats_option);
   checkpoint_option->needs("--state");
   record_option->excludes(replay_option);
   app.set_version_flag("--version", kVersion);
@@ -187,8 +217,35 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
   if (!options.tokens.controller.empty() && options.tokens.controller == options.tokens.observer) {
     return usage_error("--token and --observer-token must differ: a client's role is told by its token");
   }
-  options.listen = listen_address(listen);
+  if (listen == "none") {
+    options.serve_tcp = false;
+    if (options.nats_urls.empty()) return usage_error("--listen none needs --nats: the world would have no clients");
+    if (http_option->count() > 0) return usage_error("--listen none turns every listener off; --http cannot be given");
+  } else {
+    options.listen = listen_address(listen);
+  }
   if (http_option->count() > 0) options.http = listen_address(http);
+  if (!options.nats_urls.empty()) {
+    if (auto problem = nats::check_world_name(options.world)) return usage_error(*problem);
+    for (const std::string& url : options.nats_urls) {
+      if (url.rfind("nats://", 0) != 0 && url.rfind("tls://", 0) != 0) {
+        return usage_error("--nats: '" + url.substr(0, 120) + "' is not a nats:// or tls:// URL");
+      }
+    }
+    if (nats_stream_specs.empty()) nats_stream_specs.emplace_back(nats::kDefaultStreamSpec);
+    for (const std::string& text : nats_stream_specs) {
+      auto spec = nats::parse_stream_spec(text);
+      if (auto* problem = std::get_if<std::string>(&spec)) return usage_error(*problem);
+      auto& stream = std::get<nats::StreamSpec>(spec);
+      for (const nats::StreamSpec& other : options.nats_streams) {
+        if (other.name == stream.name) return usage_error("--nats-stream: two streams are named '" + stream.name + "'");
+      }
+      options.nats_streams.push_back(std::move(stream));
+    }
+    if (!options.nats_creds_path.empty() && !std::ifstream(options.nats_creds_path)) {
+      return usage_error("--nats-creds: cannot read '" + options.nats_creds_path + "'");
+    }
+  }
   ParsedServerOptions parsed;
   parsed.options = std::move(options);
   return parsed;

@@ -8,6 +8,8 @@
 //           [--max-undelivered-seconds S] [--token TOKEN] [--observer-token TOKEN]
 //           [--state PATH [--checkpoint-interval S]] [--record PATH | --replay PATH]
 //           [--realtime-priority N] [--keep-cpus-awake] [--log-level LEVEL]
+//           [--nats URL[,URL...] --world NAME [--nats-stream NAME=ENCODING@HZ[:fields]]...
+//            [--nats-key-interval S] [--nats-creds FILE] [--nats-sleep-events]]
 //
 // Every range and every rule between flags is checked here, so a usage
 // error is reported before anything starts. Files are only named here:
@@ -20,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "nats/stream_spec.h"
 #include "net/access.h"
 #include "net/http_connection.h"
 #include "net/session.h"
@@ -40,6 +43,7 @@ inline constexpr int kExitUsage = 2;
 struct ServerOptions {
   // Where clients reach the server.
   Endpoint listen = default_endpoint();  // --listen; port 0 picks a free one
+  bool serve_tcp = true;                 // false after --listen none (then --nats is required)
   std::string port_file;                 // --port-file: the bound port is written here; empty: none
   std::optional<Endpoint> http;          // --http: the viewer's page and WebSocket clients; none: off
   std::string http_port_file;            // --http-port-file: the bound HTTP port; only with --http
@@ -72,6 +76,14 @@ struct ServerOptions {
   double checkpoint_interval_seconds = 0;  // --checkpoint-interval, s: 0.01 to 86400, only with --state; 0: off
   std::string record_path;                 // --record: the journal to write; never with --replay
   std::string replay_path;                 // --replay: the journal to replay
+
+  // A world served over NATS (off without --nats).
+  std::vector<std::string> nats_urls;          // --nats URL[,URL...]: nats:// or tls://, credentials may be in the URL
+  std::string world;                           // --world: required with --nats (nats/stream_spec.h)
+  std::vector<nats::StreamSpec> nats_streams;  // --nats-stream, repeatable; default q60=quantized@60
+  double nats_key_interval_seconds = 1;        // --nats-key-interval, s: 0.01 to 3600
+  std::string nats_creds_path;                 // --nats-creds: a .creds file, readable
+  bool nats_sleep_events = false;              // --nats-sleep-events
 
   // Scheduling and logging.
   int realtime_priority = 0;       // SCHED_FIFO priority, 1 to 99; 0: ordinary scheduling

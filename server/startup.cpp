@@ -12,6 +12,11 @@
 namespace tumble::server {
 namespace {
 
+constexpr std::size_t kNatsListPageBytes = std::size_t{512} << 10;
+
+}  // namespace
+namespace {
+
 // Where the world starts, before the simulation is built.
 struct Origin {
   tumble::v1::Scene scene;       // the scene to build, unless resuming
@@ -105,6 +110,8 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
   config.physics_threads = options.physics_threads;
   // A page of ListBodies is never more than a client that reads may leave unread.
   config.list_page_bytes = std::min(config.list_page_bytes, options.max_pending_bytes / 2);
+  // Over NATS a reply must fit the server's max payload (1 MiB by default).
+  if (!options.nats_urls.empty()) config.list_page_bytes = std::min(config.list_page_bytes, kNatsListPageBytes);
 
   sim::JournalReader replay;
   Origin origin;

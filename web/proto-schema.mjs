@@ -10,8 +10,10 @@ const here = path.dirname(fileURLToPath(import.meta.url));
 // The repository's proto/ directory, the import root of the .proto files.
 export const kProtoDir = path.resolve(here, "..", "proto");
 
-// The protocol's files; protocol.proto imports types and scene.
-const kProtoFiles = ["tumble/v1/types.proto", "tumble/v1/scene.proto", "tumble/v1/protocol.proto"];
+// The protocol's files; protocol.proto imports types and scene, and
+// world_info.proto (what a world served over NATS answers) imports protocol.
+const kProtoFiles = ["tumble/v1/types.proto", "tumble/v1/scene.proto", "tumble/v1/protocol.proto",
+                     "tumble/v1/world_info.proto"];
 
 // A resolved Root of the protocol's messages.
 export function loadProtocolRoot(protoDir = kProtoDir) {

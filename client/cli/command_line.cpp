@@ -12,6 +12,7 @@
 #include "exit_code.h"
 #include "tumble/version.h"
 #include "tumble_client/body_ref.h"
+#include "tumble_client/nats_subjects.h"
 
 namespace tumble::cli {
 namespace {
@@ -40,6 +41,37 @@ client::Timeout timeout_from_seconds(double seconds) {
   return std::chrono::duration_cast<client::Timeout>(std::chrono::duration<double>(seconds));
 }
 
+std::string check_world(const std::string& text) { return client::world_name_problem(text); }
+
+std::string check_stream(const std::string& text) { return client::stream_name_problem(text); }
+
+std::string check_nats_url(const std::string& text) {
+  return text.empty() ? std::string("a NATS URL may not be empty (nats://HOST:PORT)") : std::string();
+}
+
+// The --stream of subscribe and watch, into `name`.
+CLI::Option* add_stream_option(CLI::App& command, std::string& name) {
+  return command
+      .add_option("--stream", name,
+                  "Over NATS: the stream to read, as `tumble worlds` lists them; default the world's first. "
+                  "Its rate, encoding and fields apply")
+      ->type_name("NAME")
+      ->check(check_stream);
+}
+
+// Over NATS the stream fixes what these flags choose over TCP: the first
+// one given, as a usage error; "" when none.
+std::string stream_conflict(std::initializer_list<const CLI::Option*> options) {
+  for (const CLI::Option* option : options) {
+    if (option->count() > 0) {
+      return option->get_name() +
+             ": over NATS the stream decides the rate, encoding, fields and bodies; choose a stream with --stream "
+             "(tumble worlds lists them)";
+    }
+  }
+  return {};
+}
+
 // A name for a new body: anything but digits only, which every command
 // would read as an id.
 std::string check_new_name(const std::string& text) {
@@ -48,8 +80,8 @@ std::string check_new_name(const std::string& text) {
 }
 
 // The --encoding of subscribe and watch, into `name`; pose_encoding() reads it.
-void add_encoding_option(CLI::App& command, std::string& name) {
-  command
+CLI::Option* add_encoding_option(CLI::App& command, std::string& name) {
+  return command
       .add_option("--encoding", name,
                   "full: float32; quantized: 1/1024 m grid, 32-bit orientations; delta: quantized, changes only")
       ->capture_default_str()
@@ -159,8 +191,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", kVersion);
   app.footer(
-      "Environment: TUMBLE_SERVER and TUMBLE_TOKEN stand in for --server and --token.\n"
-      "Exit status: 0 success, 1 failure (server error, connection, timeout), 2 usage error.");
+      "Environment: TUMBLE_SERVER, TUMBLE_TOKEN, TUMBLE_NATS and TUMBLE_WORLD stand in for --server, --token,\n"
+      "--nats and --world.\n"
+      "Exit status: 0 success, 1 failure (server error, not permitted, connection, timeout), 2 usage error.");
 
   std::string server = to_string(default_endpoint());
   std::string token;
@@ -171,6 +204,22 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
       ->capture_default_str()
       ->check(check_endpoint);
   app.add_option("--token", token, "Access token sent in Hello")->envname("TUMBLE_TOKEN");
+  std::vector<std::string> nats;
+  std::string world;
+  std::string nats_credentials;
+  app.add_option("--nats", nats,
+                 "Reach the world through NATS instead of --server: NATS server URLs, comma-separated "
+                 "(nats://[USER:PASSWORD@]HOST:PORT, tls://...)")
+      ->envname("TUMBLE_NATS")
+      ->delimiter(',')
+      ->type_name("URL[,URL...]")
+      ->check(check_nats_url);
+  CLI::Option* world_option =
+      app.add_option("--world", world, "With --nats: the world's name")->envname("TUMBLE_WORLD")->check(check_world);
+  CLI::Option* credentials_option =
+      app.add_option("--nats-creds", nats_credentials, "With --nats: a NATS credentials file (.creds)")
+          ->type_name("FILE")
+          ->check(CLI::ExistingFile);
   app.add_option("--timeout", timeout_seconds, "Seconds to wait for the connection and for each reply")
       ->capture_default_str()
       ->type_name("SECONDS")
@@ -205,22 +254,26 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   std::string fields = "all";
   std::string encoding = "full";
   bool events = false;
-  subscribe
-      ->add_option("--bodies", subscribe_bodies, "Bodies to follow, names or ids, comma-separated; all when absent")
-      ->delimiter(',')
-      ->type_name("A,B,...")
-      ->check(check_body);
-  subscribe->add_option("--rate", rate_hz, "Frames per second; 0 for every tick")
-      ->capture_default_str()
-      ->type_name("HZ");
+  CLI::Option* subscribe_bodies_option =
+      subscribe
+          ->add_option("--bodies", subscribe_bodies, "Bodies to follow, names or ids, comma-separated; all when absent")
+          ->delimiter(',')
+          ->type_name("A,B,...")
+          ->check(check_body);
+  CLI::Option* rate_option = subscribe->add_option("--rate", rate_hz, "Frames per second; 0 for every tick")
+                                 ->capture_default_str()
+                                 ->type_name("HZ");
   CLI::Option* count_option =
       subscribe->add_option("--count", count, "Exit after this many frames; run until interrupted when absent")
           ->type_name("N")
           ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
-  subscribe->add_option("--fields", fields, "pose: positions and orientations; all: velocities too")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"pose", "all"}));
-  add_encoding_option(*subscribe, encoding);
+  CLI::Option* fields_option =
+      subscribe->add_option("--fields", fields, "pose: positions and orientations; all: velocities too")
+          ->capture_default_str()
+          ->check(CLI::IsMember({"pose", "all"}));
+  CLI::Option* encoding_option = add_encoding_option(*subscribe, encoding);
+  std::string subscribe_stream;
+  CLI::Option* subscribe_stream_option = add_stream_option(*subscribe, subscribe_stream);
   subscribe->add_flag("--events", events, "Also print bodies spawned, removed, falling asleep, waking, and resets");
   bool reconnect = false;
   double reconnect_max_wait = std::chrono::duration<double>(kReconnectDefaultMaxWait).count();
@@ -297,19 +350,25 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   std::vector<std::string> watch_bodies;
   double watch_rate_hz = 10;
   std::uint64_t watch_count = 0;
-  watch->add_option("--bodies", watch_bodies, "Bodies to show, names or ids, comma-separated; all when absent")
-      ->delimiter(',')
-      ->type_name("A,B,...")
-      ->check(check_body);
-  watch->add_option("--rate", watch_rate_hz, "Tables per second; 0 for every tick")
-      ->capture_default_str()
-      ->type_name("HZ");
+  CLI::Option* watch_bodies_option =
+      watch->add_option("--bodies", watch_bodies, "Bodies to show, names or ids, comma-separated; all when absent")
+          ->delimiter(',')
+          ->type_name("A,B,...")
+          ->check(check_body);
+  CLI::Option* watch_rate_option = watch->add_option("--rate", watch_rate_hz, "Tables per second; 0 for every tick")
+                                       ->capture_default_str()
+                                       ->type_name("HZ");
   CLI::Option* watch_count_option =
       watch->add_option("--count", watch_count, "Exit after this many tables; run until interrupted when absent")
           ->type_name("N")
           ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
   std::string watch_encoding = "full";
-  add_encoding_option(*watch, watch_encoding);
+  CLI::Option* watch_encoding_option = add_encoding_option(*watch, watch_encoding);
+  std::string watch_stream;
+  CLI::Option* watch_stream_option = add_stream_option(*watch, watch_stream);
+
+  CLI::App* worlds =
+      app.add_subcommand("worlds", "With --nats: list the worlds that answer (world, tick, rate, bodies, streams)");
 
   ParsedCommandLine parsed;
   try {
@@ -327,11 +386,40 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     return parsed;
   }
 
+  // What CLI11 cannot say: which options go with --nats.
+  const auto usage = [&parsed](std::string text) {
+    parsed.exit_code = kExitUsage;
+    parsed.text = std::move(text);
+    return parsed;
+  };
+  if (nats.empty()) {
+    if (app.got_subcommand(worlds)) return usage("worlds: lists the worlds served over NATS; give --nats URL");
+    if (credentials_option->count() > 0) return usage("--nats-creds: goes with --nats");
+    if (subscribe_stream_option->count() > 0 || watch_stream_option->count() > 0) {
+      return usage("--stream: reads a stream published over NATS; give --nats URL and --world NAME");
+    }
+  } else {
+    if (world_option->count() == 0 && !app.got_subcommand(worlds)) {
+      return usage("--world: --nats needs the world's name (or $TUMBLE_WORLD); `tumble --nats " + nats.front() +
+                   " worlds` lists them");
+    }
+    std::string conflict;
+    if (app.got_subcommand(subscribe)) {
+      conflict = stream_conflict({rate_option, fields_option, encoding_option, subscribe_bodies_option});
+    } else if (app.got_subcommand(watch)) {
+      conflict = stream_conflict({watch_rate_option, watch_encoding_option, watch_bodies_option});
+    }
+    if (!conflict.empty()) return usage(conflict);
+  }
+
   Invocation invocation;
   invocation.global.server = *parse_endpoint(server).endpoint;
   invocation.global.token = token;
   invocation.global.timeout = timeout_from_seconds(timeout_seconds);
   invocation.global.json = json;
+  invocation.global.nats = nats;
+  invocation.global.world = nats.empty() ? std::string() : world;
+  invocation.global.nats_credentials = nats_credentials;
 
   if (app.got_subcommand(bodies)) {
     invocation.command = BodiesCommand{};
@@ -366,6 +454,7 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     command.poses_only = fields == "pose";
     command.encoding = pose_encoding(encoding);
     command.events = events;
+    command.stream = subscribe_stream;
     command.reconnect = reconnect;
     command.reconnect_max_wait =
         std::chrono::round<std::chrono::milliseconds>(std::chrono::duration<double>(reconnect_max_wait));
@@ -421,12 +510,15 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     invocation.command = TickRateCommand{tick_rate_hz};
   } else if (app.got_subcommand(stats)) {
     invocation.command = StatsCommand{};
+  } else if (app.got_subcommand(worlds)) {
+    invocation.command = WorldsCommand{};
   } else {
     WatchCommand command;
     for (const std::string& name : watch_bodies) command.bodies.push_back(body_ref(name));
     command.rate_hz = watch_rate_hz;
     if (watch_count_option->count() > 0) command.count = watch_count;
     command.encoding = pose_encoding(watch_encoding);
+    command.stream = watch_stream;
     invocation.command = std::move(command);
   }
   parsed.invocation = std::move(invocation);

@@ -1,6 +1,7 @@
 // The `tumble` command line, parsed into plain values.
 //
-//   tumble [--server HOST:PORT] [--json] [--token TOKEN] [--timeout SECONDS] COMMAND ...
+//   tumble [--server HOST:PORT | --nats URL[,URL...] [--world NAME] [--nats-creds FILE]]
+//          [--json] [--token TOKEN] [--timeout SECONDS] COMMAND ...
 //     bodies
 //     force BODY --force FX FY FZ [--at PX PY PZ [--local]] [--duration S | --ticks N | --persistent]
 //     torque BODY --torque TX TY TZ [--duration S | --ticks N | --persistent]
@@ -17,6 +18,12 @@
 //     step [N]
 //     tick-rate HZ
 //     watch [--bodies A,B,...] [--rate HZ] [--count N] [--encoding full|quantized|delta]
+//     worlds                                     (NATS only)
+//
+// Over NATS (--nats), subscribe and watch read a stream the server
+// publishes (--stream NAME, default the world's first): its rate, encoding
+// and fields apply, so --rate, --encoding, --fields and --bodies are
+// refused there.
 //
 // Numbers that parse as floating point pass through unchecked, NaN and
 // infinities included: judging them is the server's job.
@@ -39,6 +46,9 @@ namespace tumble::cli {
 // Options written before the subcommand.
 struct GlobalOptions {
   Endpoint server;                                           // --server, else $TUMBLE_SERVER, else 127.0.0.1:7400
+  std::vector<std::string> nats;                             // --nats, else $TUMBLE_NATS; empty: TCP to `server`
+  std::string world;                                         // --world, else $TUMBLE_WORLD; with `nats` only
+  std::string nats_credentials;                              // --nats-creds FILE; with `nats` only
   std::string token;                                         // --token, else $TUMBLE_TOKEN
   client::Timeout timeout = client::kDefaultRequestTimeout;  // --timeout: connecting, and each request
   bool json = false;                                         // --json: one JSON object per line
@@ -93,6 +103,7 @@ struct SubscribeCommand {
   bool poses_only = false;                  // --fields pose: no velocities
   tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;       // --encoding
   bool events = false;                                                      // --events: every kind of WorldEvent too
+  std::string stream;                                                       // --stream: over NATS; "" for the first
   bool reconnect = false;                                                   // --reconnect: ride out lost connections
   std::chrono::milliseconds reconnect_max_wait = kReconnectDefaultMaxWait;  // --reconnect-max-wait
 };
@@ -158,11 +169,15 @@ struct WatchCommand {
   double rate_hz = 10;                      // tables per second; 0: every tick
   std::optional<std::uint64_t> count;       // stop after this many tables; none: until interrupted
   tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;  // --encoding
+  std::string stream;                                                  // --stream: over NATS; "" for the first
 };
+
+// tumble worlds: every world answering over NATS.
+struct WorldsCommand {};
 
 using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand, SpawnCommand,
                              RemoveCommand, SetCommand, ClearCommand, PauseCommand, ResumeCommand, StepCommand,
-                             ResetCommand, TickRateCommand, StatsCommand, WatchCommand>;
+                             ResetCommand, TickRateCommand, StatsCommand, WatchCommand, WorldsCommand>;
 
 // A command to run and the options to run it with.
 struct Invocation {
@@ -180,8 +195,9 @@ struct ParsedCommandLine {
   std::string text;
 };
 
-// Parses argv (argv[0] is the program). Reads $TUMBLE_SERVER and
-// $TUMBLE_TOKEN for options not given. Never prints and never exits.
+// Parses argv (argv[0] is the program). Reads $TUMBLE_SERVER,
+// $TUMBLE_TOKEN, $TUMBLE_NATS and $TUMBLE_WORLD for options not given.
+// Never prints and never exits.
 ParsedCommandLine parse_command_line(int argc, const char* const* argv);
 
 }  // namespace tumble::cli

@@ -13,6 +13,7 @@
 #include "reconnect_policy.h"
 #include "requests.h"
 #include "tumble_client/connection.h"
+#include "tumble_client/nats_connection.h"
 #include "tumble_client/pose_sample.h"
 #include "tumble_client/pose_stream.h"
 #include "watch_state.h"
@@ -26,8 +27,47 @@ constexpr auto kInterruptPollInterval = std::chrono::milliseconds(100);
 // ANSI: cursor home, then clear the screen; `watch` draws each table after it.
 constexpr const char* kClearScreen = "\x1b[H\x1b[2J";
 
-client::Result<client::Connection> open(const GlobalOptions& global) {
-  return client::Connection::connect(global.server, kClientName, global.token, global.timeout);
+// The failure of a connection over NATS, led by the flag to look at.
+client::Failure naming_the_flag(const GlobalOptions& global, client::Failure failure) {
+  const bool credentials =
+      !global.nats_credentials.empty() &&
+      (failure.kind == client::FailureKind::invalid_argument ||
+       (failure.kind == client::FailureKind::server && failure.code == tumble::v1::UNAUTHENTICATED));
+  failure.message = (credentials ? "--nats-creds: " : "--nats: ") + failure.message;
+  return failure;
+}
+
+client::Result<client::NatsConnection> open_nats(const GlobalOptions& global, const std::string& stream) {
+  client::NatsOptions options;
+  options.servers = global.nats;
+  options.world = global.world;
+  options.stream = stream;
+  options.credentials_file = global.nats_credentials;
+  options.client_name = kClientName;
+  auto connection = client::NatsConnection::connect(options, global.timeout);
+  if (!connection) return naming_the_flag(global, connection.failure());
+  return connection;
+}
+
+// The world the options name: over NATS with --nats, else over TCP.
+// `stream` is the NATS stream subscribe() is to read.
+client::Result<std::unique_ptr<client::Transport>> open(const GlobalOptions& global, const std::string& stream = {}) {
+  if (!global.nats.empty()) {
+    auto connection = open_nats(global, stream);
+    if (!connection) return connection.failure();
+    return std::unique_ptr<client::Transport>(std::make_unique<client::NatsConnection>(std::move(connection.value())));
+  }
+  auto connection = client::Connection::connect(global.server, kClientName, global.token, global.timeout);
+  if (!connection) return connection.failure();
+  return std::unique_ptr<client::Transport>(std::make_unique<client::Connection>(std::move(connection.value())));
+}
+
+// The bodies' names, for output that shows names. A user who may not ask
+// for them (an observer over NATS) sees ids instead: no failure.
+client::Result<tumble::v1::BodyList> names_if_permitted(client::Transport& world, client::Timeout timeout) {
+  auto list = world.list_bodies(timeout);
+  if (!list && list.failure().code == tumble::v1::PERMISSION_DENIED) return tumble::v1::BodyList{};
+  return list;
 }
 
 void emit(std::ostream& out, const std::string& text) { out << text << std::flush; }
@@ -50,7 +90,7 @@ struct StreamHandlers {
 
 // Reads the messages of `subscription` until `count` frames were handled
 // or an interrupt: the shared loop of subscribe and watch.
-std::optional<client::Failure> follow(client::Connection& connection, std::uint32_t subscription,
+std::optional<client::Failure> follow(client::Transport& connection, std::uint32_t subscription,
                                       std::optional<std::uint64_t> count, const StreamHandlers& handlers) {
   catch_interrupts();
   std::uint64_t shown = 0;
@@ -106,37 +146,42 @@ std::optional<client::Failure> run(const Invocation& invocation, std::ostream& o
     std::optional<client::Failure> operator()(const WatchCommand& c) const {
       return run_watch(global, c, out, out_is_terminal);
     }
+    std::optional<client::Failure> operator()(const WorldsCommand&) const { return run_worlds(global, out); }
   };
   return std::visit(Dispatch{global, out, out_is_terminal}, invocation.command);
 }
 
 std::optional<client::Failure> run_bodies(const GlobalOptions& global, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  auto list = connection->list_bodies(global.timeout);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  auto list = connection.list_bodies(global.timeout);
   if (!list) return list.failure();
   emit(out, global.json ? json_line(body_list_json(*list)) : format_body_table(*list));
   return std::nullopt;
 }
 
 std::optional<client::Failure> run_force(const GlobalOptions& global, const ForceCommand& command, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->apply_force(make_apply_force(command), global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.apply_force(make_apply_force(command), global.timeout), out);
 }
 
 std::optional<client::Failure> run_torque(const GlobalOptions& global, const TorqueCommand& command,
                                           std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->apply_torque(make_apply_torque(command), global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.apply_torque(make_apply_torque(command), global.timeout), out);
 }
 
 std::optional<client::Failure> run_impulse(const GlobalOptions& global, const ImpulseCommand& command,
                                            std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->apply_impulse(make_apply_impulse(command), global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.apply_impulse(make_apply_impulse(command), global.timeout), out);
 }
 
 namespace {
@@ -154,16 +199,17 @@ struct SubscribeProgress {
 std::optional<client::Failure> subscribe_once(const GlobalOptions& global, const SubscribeCommand& command,
                                               std::ostream& out, std::ostream& notes, SubscribeProgress& progress) {
   progress.subscribed = false;
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  auto list = connection->list_bodies(global.timeout);
+  auto link = open(global, command.stream);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  auto list = names_if_permitted(connection, global.timeout);
   if (!list) return list.failure();
   const BodyNames names = body_names(*list);
-  auto subscribed = connection->subscribe(make_subscribe(command), global.timeout);
+  auto subscribed = connection.subscribe(make_subscribe(command), global.timeout);
   if (!subscribed) return subscribed.failure();
   progress.subscribed = true;
   if (progress.retried) {
-    notes << "tumble: reconnected to " << tumble::to_string(global.server) << " at tick " << list->tick() << std::endl;
+    notes << "tumble: reconnected to " << connection.describe() << " at tick " << list->tick() << std::endl;
   }
 
   StreamHandlers handlers;
@@ -177,7 +223,7 @@ std::optional<client::Failure> subscribe_once(const GlobalOptions& global, const
   };
   std::optional<std::uint64_t> left;
   if (command.count) left = *command.count - progress.shown;
-  return follow(*connection, subscribed->subscription_id(), left, handlers);
+  return follow(connection, subscribed->subscription_id(), left, handlers);
 }
 
 }  // namespace
@@ -204,65 +250,75 @@ std::optional<client::Failure> run_subscribe(const GlobalOptions& global, const 
 }
 
 std::optional<client::Failure> run_spawn(const GlobalOptions& global, const SpawnCommand& command, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->spawn_body(make_body_spec(command), global.timeout), out, format_spawned);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.spawn_body(make_body_spec(command), global.timeout), out, format_spawned);
 }
 
 std::optional<client::Failure> run_remove(const GlobalOptions& global, const RemoveCommand& command,
                                           std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->remove_body(command.body, global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.remove_body(command.body, global.timeout), out);
 }
 
 std::optional<client::Failure> run_set(const GlobalOptions& global, const SetCommand& command, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->set_body_state(make_set_body_state(command), global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.set_body_state(make_set_body_state(command), global.timeout), out);
 }
 
 std::optional<client::Failure> run_clear(const GlobalOptions& global, const ClearCommand& command, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->clear_forces(make_clear_forces(command), global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.clear_forces(make_clear_forces(command), global.timeout), out);
 }
 
 std::optional<client::Failure> run_pause(const GlobalOptions& global, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->pause(global.timeout), out, format_paused);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.pause(global.timeout), out, format_paused);
 }
 
 std::optional<client::Failure> run_resume(const GlobalOptions& global, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->resume(global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.resume(global.timeout), out);
 }
 
 std::optional<client::Failure> run_step(const GlobalOptions& global, const StepCommand& command, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->step(command.ticks, global.timeout), out, format_stepped);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.step(command.ticks, global.timeout), out, format_stepped);
 }
 
 std::optional<client::Failure> run_reset(const GlobalOptions& global, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->reset(global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.reset(global.timeout), out);
 }
 
 std::optional<client::Failure> run_tick_rate(const GlobalOptions& global, const TickRateCommand& command,
                                              std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  return print_ack(global, connection->set_tick_rate(command.rate_hz, global.timeout), out);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.set_tick_rate(command.rate_hz, global.timeout), out);
 }
 
 std::optional<client::Failure> run_stats(const GlobalOptions& global, std::ostream& out) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
-  auto stats = connection->get_stats(global.timeout);
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  auto stats = connection.get_stats(global.timeout);
   if (!stats) return stats.failure();
   emit(out, global.json ? json_line(stats_json(*stats)) : format_stats(*stats));
   return std::nullopt;
@@ -270,13 +326,14 @@ std::optional<client::Failure> run_stats(const GlobalOptions& global, std::ostre
 
 std::optional<client::Failure> run_watch(const GlobalOptions& global, const WatchCommand& command, std::ostream& out,
                                          bool out_is_terminal) {
-  auto connection = open(global);
-  if (!connection) return connection.failure();
+  auto link = open(global, command.stream);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
   // Subscribe first, then list: every event after the list's tick is queued
   // by the time the list arrives, and applying the older ones again is harmless.
-  auto subscribed = connection->subscribe(make_watch_subscribe(command), global.timeout);
+  auto subscribed = connection.subscribe(make_watch_subscribe(command), global.timeout);
   if (!subscribed) return subscribed.failure();
-  auto list = connection->list_bodies(global.timeout);
+  auto list = names_if_permitted(connection, global.timeout);
   if (!list) return list.failure();
   WatchState state;
   state.load(*list);
@@ -295,7 +352,22 @@ std::optional<client::Failure> run_watch(const GlobalOptions& global, const Watc
     first = false;
     return std::nullopt;
   };
-  return follow(*connection, subscribed->subscription_id(), command.count, handlers);
+  return follow(connection, subscribed->subscription_id(), command.count, handlers);
+}
+
+std::optional<client::Failure> run_worlds(const GlobalOptions& global, std::ostream& out) {
+  auto connection = open_nats(global, {});
+  if (!connection) return connection.failure();
+  auto worlds = connection->find_worlds(client::kWorldsQuietPeriod, global.timeout);
+  if (!worlds) return worlds.failure();
+  if (global.json) {
+    std::string lines;
+    for (const tumble::v1::WorldInfo& info : *worlds) lines += json_line(world_info_json(info));
+    emit(out, lines);
+  } else {
+    emit(out, format_world_table(*worlds));
+  }
+  return std::nullopt;
 }
 
 }  // namespace tumble::cli

@@ -1,4 +1,5 @@
-// The `tumble` subcommands: each connects, does one thing and writes what
+// The `tumble` subcommands: each connects (over TCP, or through NATS with
+// --nats, the same code either way: see client::Transport), does one thing and writes what
 // the server said to `out`, as text or, with --json, as JSON lines. Each
 // returns the failure that stopped it, or nothing on success. Nothing is
 // written to `out` on failure; reporting it is the caller's job.
@@ -76,5 +77,10 @@ std::optional<client::Failure> run_stats(const GlobalOptions& global, std::ostre
 // subscribe does, after `count` tables or on SIGINT/SIGTERM.
 std::optional<client::Failure> run_watch(const GlobalOptions& global, const WatchCommand& command, std::ostream& out,
                                          bool out_is_terminal);
+
+// tumble worlds: asks tumble.v1.worlds over NATS and prints every world
+// that answered within the quiet period (kWorldsQuietPeriod): a table, or
+// with --json one object per world per line.
+std::optional<client::Failure> run_worlds(const GlobalOptions& global, std::ostream& out);
 
 }  // namespace tumble::cli

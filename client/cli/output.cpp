@@ -251,6 +251,22 @@ std::string format_stats(const tumble::v1::Stats& stats) {
   for (const auto& row : rows) width = std::max(width, row.first.size());
   std::string out;
   for (const auto& [label, value] : rows) out += pad_right(label, width) + "  " + value + "\n";
+  if (!stats.has_nats()) return out;
+  const tumble::v1::NatsLink& nats = stats.nats();
+  const std::vector<std::pair<std::string, std::string>> link = {
+      {"world", nats.world()},
+      {"connected", nats.connected() ? "yes" : "no"},
+      {"server", nats.server_url().empty() ? "-" : nats.server_url()},
+      {"messages out", std::to_string(nats.messages_out())},
+      {"bytes out", std::to_string(nats.bytes_out())},
+      {"reconnects", std::to_string(nats.reconnects())},
+      {"requests in", std::to_string(nats.requests_in())},
+      {"frames dropped", std::to_string(nats.frames_dropped())},
+  };
+  width = 0;
+  for (const auto& row : link) width = std::max(width, row.first.size());
+  out += "nats\n";
+  for (const auto& [label, value] : link) out += "  " + pad_right(label, width) + "  " + value + "\n";
   return out;
 }
 
@@ -276,6 +292,91 @@ Json stats_json(const tumble::v1::Stats& stats) {
   out["connections_refused"] = stats.connections_refused();
   out["clients_closed_for_errors"] = stats.clients_closed_for_errors();
   out["bytes_sent"] = stats.bytes_sent();
+  if (stats.has_nats()) {
+    const tumble::v1::NatsLink& nats = stats.nats();
+    Json link = Json::object();
+    link["world"] = nats.world();
+    link["connected"] = nats.connected();
+    link["server_url"] = nats.server_url();
+    link["messages_out"] = nats.messages_out();
+    link["bytes_out"] = nats.bytes_out();
+    link["reconnects"] = nats.reconnects();
+    link["requests_in"] = nats.requests_in();
+    link["frames_dropped"] = nats.frames_dropped();
+    out["nats"] = std::move(link);
+  }
+  return out;
+}
+
+std::string encoding_name(tumble::v1::PoseEncoding encoding) {
+  switch (encoding) {
+    case tumble::v1::POSE_ENCODING_FULL:
+      return "full";
+    case tumble::v1::POSE_ENCODING_QUANTIZED:
+      return "quantized";
+    case tumble::v1::POSE_ENCODING_DELTA:
+      return "delta";
+    default:
+      break;
+  }
+  return "";
+}
+
+std::string fields_name(tumble::v1::PoseFields fields) {
+  return fields == tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY ? "all" : "pose";
+}
+
+// The fewest decimals that show `value` (60 as "60", 12.5 as "12.5").
+std::string short_number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", value);
+  return text;
+}
+
+std::string stream_spec(const tumble::v1::NatsStreamInfo& stream) {
+  std::string spec = stream.name() + "=" + encoding_name(stream.encoding()) + "@" + short_number(stream.rate_hz());
+  if (stream.fields() == tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY) spec += ":all";
+  return spec;
+}
+
+std::string format_world_table(const std::vector<tumble::v1::WorldInfo>& worlds) {
+  if (worlds.empty()) return "no worlds answered\n";
+  constexpr std::size_t kColumns = 5;
+  constexpr std::array<bool, kColumns> kRightAligned = {false, true, true, true, false};
+  std::vector<std::array<std::string, kColumns>> rows;
+  rows.push_back({"WORLD", "TICK", "RATE (Hz)", "BODIES", "STREAMS"});
+  for (const tumble::v1::WorldInfo& info : worlds) {
+    std::string streams;
+    for (const auto& stream : info.streams()) streams += (streams.empty() ? "" : " ") + stream_spec(stream);
+    rows.push_back({info.world(), std::to_string(info.tick()) + (info.paused() ? " (paused)" : ""),
+                    short_number(info.tick_rate_hz()), std::to_string(info.bodies()), streams.empty() ? "-" : streams});
+  }
+  return aligned_table(rows, kRightAligned);
+}
+
+Json world_info_json(const tumble::v1::WorldInfo& info) {
+  Json streams = Json::array();
+  for (const auto& stream : info.streams()) {
+    Json entry = Json::object();
+    entry["name"] = stream.name();
+    entry["subject"] = stream.subject();
+    entry["encoding"] = encoding_name(stream.encoding());
+    entry["rate_hz"] = stream.rate_hz();
+    entry["fields"] = fields_name(stream.fields());
+    entry["key_interval_s"] = stream.key_interval_s();
+    streams.push_back(std::move(entry));
+  }
+  Json out = Json::object();
+  out["world"] = info.world();
+  out["tick"] = info.tick();
+  out["tick_rate_hz"] = info.tick_rate_hz();
+  out["bodies"] = info.bodies();
+  out["paused"] = info.paused();
+  out["version"] = info.version();
+  out["server_id"] = info.server_id();
+  out["streams"] = std::move(streams);
+  out["events_subject"] = info.events_subject();
+  out["rpc_subject"] = info.rpc_subject();
   return out;
 }
 

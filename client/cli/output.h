@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tumble/v1/protocol.pb.h"
+#include "tumble/v1/world_info.pb.h"
 #include "tumble_client/pose_sample.h"
 #include "watch_state.h"
 
@@ -60,14 +61,37 @@ std::string format_stepped(const tumble::v1::Ack& ack);
 
 // One "label  value" line per figure: tick, sim time, paused, tick rate,
 // real-time factor, tick time p50/p99, tick CPU p50/p99, late start
-// p50/p99 (ms), overruns, bodies (awake, asleep), bodies diverged, clients, bytes sent.
+// p50/p99 (ms), overruns, bodies (awake, asleep), bodies diverged, clients, bytes sent;
+// then, when the server publishes into NATS, a "nats" line and its link
+// indented under it: world, connected, server, messages and bytes out,
+// reconnects, requests in, frames dropped.
 std::string format_stats(const tumble::v1::Stats& stats);
 
 // {"tick", "sim_time", "paused", "tick_rate_hz", "real_time_factor",
 // "tick_ms_p50", "tick_ms_p99", "tick_cpu_ms_p50", "tick_cpu_ms_p99",
 // "tick_start_late_ms_p50", "tick_start_late_ms_p99", "overruns",
-// "bodies", "bodies_awake", "bodies_asleep", "bodies_diverged", "clients", "bytes_sent"}.
+// "bodies", "bodies_awake", "bodies_asleep", "bodies_diverged", "clients", "bytes_sent"},
+// and "nats": {"world", "connected", "server_url", "messages_out",
+// "bytes_out", "reconnects", "requests_in", "frames_dropped"} when the
+// server publishes into NATS.
 Json stats_json(const tumble::v1::Stats& stats);
+
+// "full", "quantized" or "delta"; "" for an unknown encoding.
+std::string encoding_name(tumble::v1::PoseEncoding encoding);
+
+// A stream as tumbled's --nats-stream spells it: "q60=quantized@60",
+// with ":all" when it carries velocities.
+std::string stream_spec(const tumble::v1::NatsStreamInfo& stream);
+
+// `tumble worlds`: an aligned table, one header line and one line per
+// world: world, tick (with "(paused)"), tick rate (Hz), bodies, and its
+// streams as stream_spec() writes them; "no worlds answered" when empty.
+std::string format_world_table(const std::vector<tumble::v1::WorldInfo>& worlds);
+
+// {"world", "tick", "tick_rate_hz", "bodies", "paused", "version",
+// "server_id", "streams": [{"name", "subject", "encoding", "rate_hz",
+// "fields", "key_interval_s"}], "events_subject", "rpc_subject"}.
+Json world_info_json(const tumble::v1::WorldInfo& info);
 
 // "spawned", "removed", "asleep", "awake", "reset" or "diverged"; "" for an unknown kind.
 std::string event_kind_name(tumble::v1::WorldEventKind kind);

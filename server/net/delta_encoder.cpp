@@ -1,5 +1,6 @@
 #include "net/delta_encoder.h"
 
+#include "frames/pose_frames.h"
 #include "tumble/v1/protocol.pb.h"
 #include "wire/frame.h"
 
@@ -19,8 +20,7 @@ tumble::v1::ServerMessage delta_message(const QuantizedFrame& frame) {
 
 std::string encode_key(const QuantizedFrame& frame) {
   tumble::v1::ServerMessage message = delta_message(frame);
-  message.mutable_pose_frame()->set_key_frame(true);
-  message.mutable_pose_frame()->set_packed(wire::encode_quantized_poses(frame.bodies, frame.velocities));
+  frames::fill_delta_key(frame.bodies, frame.velocities, message.mutable_pose_frame());
   return wire::encode_frame(message);
 }
 
@@ -44,19 +44,7 @@ std::shared_ptr<const std::string> DeltaEncoder::encode(std::shared_ptr<const Qu
 
 std::string DeltaEncoder::encode_change(const QuantizedFrame& frame) {
   tumble::v1::ServerMessage message = delta_message(frame);
-  tumble::v1::PoseFrame& out = *message.mutable_pose_frame();
-  // Both lists are sorted by id: one merge finds the changed, new and removed bodies.
-  changed_.clear();
-  const std::vector<wire::QuantizedBody>& before = baseline_->bodies;
-  auto old = before.begin();
-  for (const wire::QuantizedBody& body : frame.bodies) {
-    while (old != before.end() && old->id < body.id) out.add_removed_ids((old++)->id);
-    const bool known = old != before.end() && old->id == body.id;
-    if (!known || !(*old == body)) changed_.push_back(body);
-    if (known) ++old;
-  }
-  for (; old != before.end(); ++old) out.add_removed_ids(old->id);
-  out.set_packed(wire::encode_quantized_poses(changed_, frame.velocities));
+  frames::fill_delta_change(baseline_->bodies, frame.bodies, frame.velocities, message.mutable_pose_frame(), &changed_);
   return wire::encode_frame(message);
 }
 

@@ -3,29 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "frames/pose_frames.h"
+#include "frames/world_events.h"
 #include "net/session.h"
 #include "wire/frame.h"
 
 namespace tumble::net {
 namespace {
-
-tumble::v1::WorldEventKind wire_kind(sim::WorldEventKind kind) {
-  switch (kind) {
-    case sim::WorldEventKind::body_spawned:
-      return tumble::v1::WORLD_EVENT_BODY_SPAWNED;
-    case sim::WorldEventKind::body_removed:
-      return tumble::v1::WORLD_EVENT_BODY_REMOVED;
-    case sim::WorldEventKind::body_asleep:
-      return tumble::v1::WORLD_EVENT_BODY_ASLEEP;
-    case sim::WorldEventKind::body_awake:
-      return tumble::v1::WORLD_EVENT_BODY_AWAKE;
-    case sim::WorldEventKind::world_reset:
-      return tumble::v1::WORLD_EVENT_WORLD_RESET;
-    case sim::WorldEventKind::body_diverged:
-      return tumble::v1::WORLD_EVENT_BODY_DIVERGED;
-  }
-  return tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED;
-}
 
 std::uint32_t kind_bit(int kind) { return std::uint32_t{1} << static_cast<unsigned>(kind); }
 
@@ -187,7 +171,7 @@ void Publisher::publish_latest() {
 }
 
 void Publisher::deliver(const sim::WorldEvent& event) {
-  const tumble::v1::WorldEventKind kind = wire_kind(event.kind);
+  const tumble::v1::WorldEventKind kind = frames::wire_kind(event.kind);
   bool filters_changed = false;
   for (Stream& stream : streams_) {
     const bool names_body =
@@ -195,12 +179,7 @@ void Publisher::deliver(const sim::WorldEvent& event) {
     const bool concerns_stream = stream.all_bodies || names_body || kind == tumble::v1::WORLD_EVENT_WORLD_RESET;
     if (concerns_stream && (stream.event_kinds & kind_bit(kind)) != 0) {
       tumble::v1::ServerMessage message;
-      auto& out = *message.mutable_world_event();
-      out.set_subscription_id(stream.id);
-      out.set_tick(event.tick);
-      out.set_kind(kind);
-      if (event.body != physics::kInvalidBodyId) out.set_body_id(event.body);
-      out.set_body_name(event.name);
+      frames::fill_world_event(event, stream.id, message.mutable_world_event());
       for (const Member& member : stream.members) {
         if (auto session = member.session.lock()) session->send(message);
       }
@@ -293,31 +272,10 @@ std::shared_ptr<const std::string> Publisher::encode(Stream& stream, const sim::
   frame.set_tick(snapshot.tick);
   frame.set_sim_time(snapshot.sim_time);
   if (stream.encoding == tumble::v1::POSE_ENCODING_QUANTIZED) {
-    frame.set_encoding(tumble::v1::POSE_ENCODING_QUANTIZED);
-    const std::vector<wire::QuantizedBody> bodies =
-        stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities);
-    frame.set_packed(wire::encode_quantized_poses(bodies, stream.velocities));
-    return std::make_shared<const std::string>(wire::encode_frame(message));
-  }
-  const std::size_t n = stream.all_bodies ? snapshot.body_count() : stream.bodies.size();
-  frame.mutable_ids()->Reserve(static_cast<int>(n));
-  frame.mutable_positions()->Reserve(static_cast<int>(3 * n));
-  frame.mutable_orientations()->Reserve(static_cast<int>(4 * n));
-  if (stream.velocities) {
-    frame.mutable_linear_velocities()->Reserve(static_cast<int>(3 * n));
-    frame.mutable_angular_velocities()->Reserve(static_cast<int>(3 * n));
-  }
-  for (std::size_t i = 0; i < snapshot.body_count(); ++i) {
-    const physics::BodyId id = snapshot.ids[i];
-    if (!stream.all_bodies && !std::binary_search(stream.bodies.begin(), stream.bodies.end(), id)) continue;
-    frame.add_ids(id);
-    for (std::size_t k = 0; k < 3; ++k) frame.add_positions(static_cast<float>(snapshot.positions[3 * i + k]));
-    for (std::size_t k = 0; k < 4; ++k) frame.add_orientations(static_cast<float>(snapshot.orientations[4 * i + k]));
-    if (!stream.velocities) continue;
-    for (std::size_t k = 0; k < 3; ++k) {
-      frame.add_linear_velocities(static_cast<float>(snapshot.linear_velocities[3 * i + k]));
-      frame.add_angular_velocities(static_cast<float>(snapshot.angular_velocities[3 * i + k]));
-    }
+    frames::fill_quantized(stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities),
+                           stream.velocities, &frame);
+  } else {
+    frames::fill_full(snapshot, stream.all_bodies, stream.bodies, stream.velocities, &frame);
   }
   return std::make_shared<const std::string>(wire::encode_frame(message));
 }

@@ -46,8 +46,8 @@
 #include <variant>
 #include <vector>
 
+#include "frames/quantize_memo.h"
 #include "net/asio.h"
-#include "net/quantize_memo.h"
 #include "net/quantized_frame.h"
 #include "sim/request_check.h"
 #include "sim/simulation.h"
@@ -114,7 +114,7 @@ class Publisher {
     std::uint64_t frames_made = 0;  // DELTA: the sequence number of the last QuantizedFrame made
     std::vector<Member> members;
     std::vector<Member> awaiting_first;  // joined since the last frame
-    QuantizeMemo memo;                   // QUANTIZED and DELTA: the bodies of its last frame on the grids
+    frames::QuantizeMemo memo;           // QUANTIZED and DELTA: the bodies of its last frame on the grids
   };
 
   // A frame on its way to the members of a stream.

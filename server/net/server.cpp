@@ -29,9 +29,9 @@ Server::Server(asio::io_context& io, sim::Simulation& sim, ServerConfig config)
       publisher_(io, sim, config_.fanout_slice),
       refusals_(io, "connections", config_.max_connections, counters_),
       context_{io, sim, publisher_, config_.limits, config_.server_version, config_.access, counters_} {
-  sim_.set_snapshot_listener(
+  sim_.add_snapshot_listener(
       [this](std::shared_ptr<const sim::Snapshot> snapshot) { publisher_.offer(std::move(snapshot)); });
-  sim_.set_event_listener(
+  sim_.add_event_listener(
       [this](std::shared_ptr<const sim::WorldEvents> events) { publisher_.offer_events(std::move(events)); });
 }
 

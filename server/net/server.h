@@ -51,8 +51,8 @@ struct ServerConfig {
 
 class Server {
  public:
-  // `sim` must outlive the server. The server installs itself as the sim's
-  // snapshot listener.
+  // `sim` must outlive the server. The server adds itself to the sim's
+  // snapshot and event listeners.
   Server(boost::asio::io_context& io, sim::Simulation& sim, ServerConfig config);
   ~Server();
 

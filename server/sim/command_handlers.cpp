@@ -442,6 +442,7 @@ ServerMessage Simulation::stats(const ClientMessage& message) const {
   stats.set_bodies_awake(static_cast<std::uint32_t>(world_.awake_body_count()));
   stats.set_bodies_asleep(static_cast<std::uint32_t>(world_.sleeping_body_count()));
   stats.set_bodies_diverged(bodies_diverged_);
+  for (const StatsHook& hook : stats_hooks_) hook(&stats);
   return reply;
 }
 

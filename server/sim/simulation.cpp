@@ -133,9 +133,11 @@ double Simulation::time_of(std::uint64_t tick) const {
   return rate_since_time_ + static_cast<double>(tick - rate_since_tick_) * dt_;
 }
 
-void Simulation::set_snapshot_listener(SnapshotListener listener) { listener_ = std::move(listener); }
+void Simulation::add_snapshot_listener(SnapshotListener listener) { listeners_.push_back(std::move(listener)); }
 
-void Simulation::set_event_listener(WorldEventListener listener) { event_listener_ = std::move(listener); }
+void Simulation::add_event_listener(WorldEventListener listener) { event_listeners_.push_back(std::move(listener)); }
+
+void Simulation::add_stats_hook(StatsHook hook) { stats_hooks_.push_back(std::move(hook)); }
 
 void Simulation::start() {
   loop_.start(
@@ -166,14 +168,30 @@ void Simulation::submit(Command command) {
 
 void Simulation::request_snapshot() { snapshot_requested_.store(true, std::memory_order_relaxed); }
 
-void Simulation::set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies) {
+PublishSource Simulation::add_publish_source() {
   std::lock_guard lock(interest_mutex_);
-  published_interest_ = std::move(interest);
-  published_early_bodies_ = early_bodies;
+  if (sources_.size() >= kMaxPublishSources) return 0;
+  sources_.emplace_back();
+  return static_cast<PublishSource>(sources_.size() - 1);
+}
+
+void Simulation::set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies,
+                                      PublishSource source) {
+  std::lock_guard lock(interest_mutex_);
+  if (source >= sources_.size()) return;
+  sources_[source] = {std::move(interest), early_bodies};
   interest_changed_ = true;
 }
 
-void Simulation::set_sleep_events_wanted(bool wanted) { sleep_events_wanted_.store(wanted, std::memory_order_relaxed); }
+void Simulation::set_sleep_events_wanted(bool wanted, PublishSource source) {
+  if (source >= kMaxPublishSources) return;
+  const std::uint64_t bit = std::uint64_t{1} << source;
+  if (wanted) {
+    sleep_events_sources_.fetch_or(bit, std::memory_order_relaxed);
+  } else {
+    sleep_events_sources_.fetch_and(~bit, std::memory_order_relaxed);
+  }
+}
 
 void Simulation::run_pass(double late_ms) {
   timing_.record_start_late(late_ms);
@@ -232,7 +250,7 @@ void Simulation::advance() {
   sim_time_.store(time_of(next_tick_), std::memory_order_relaxed);
   if (!world_.diverged_bodies().empty()) remove_diverged();
 
-  if (!sleep_events_wanted_.load(std::memory_order_relaxed)) {
+  if (sleep_events_sources_.load(std::memory_order_relaxed) == 0) {
     sleep_.stop();
   } else if (!sleep_.watching()) {
     sleep_.start(world_);  // only changes from now on are events
@@ -258,7 +276,10 @@ void Simulation::advance() {
 
 void Simulation::flush_events() {
   if (events_.empty()) return;
-  if (event_listener_) event_listener_(std::make_shared<const WorldEvents>(std::move(events_)));
+  if (!event_listeners_.empty()) {
+    const auto batch = std::make_shared<const WorldEvents>(std::move(events_));
+    for (const WorldEventListener& listener : event_listeners_) listener(batch);
+  }
   events_.clear();
 }
 
@@ -266,7 +287,14 @@ PublishPlan::Due Simulation::plan_publish() {
   {
     std::lock_guard lock(interest_mutex_);
     if (interest_changed_) {
-      plan_.set_interests(std::move(published_interest_), published_early_bodies_);
+      // The union of the sources: the plan publishes for each interest alike.
+      std::vector<PublishInterest> merged;
+      std::size_t early_bodies = 0;
+      for (const SourceInterest& source : sources_) {
+        merged.insert(merged.end(), source.interest.begin(), source.interest.end());
+        if (!source.interest.empty()) early_bodies = std::max(early_bodies, source.early_bodies);
+      }
+      plan_.set_interests(std::move(merged), early_bodies);
       interest_changed_ = false;
     }
   }
@@ -275,7 +303,7 @@ PublishPlan::Due Simulation::plan_publish() {
 }
 
 void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows) {
-  if (!listener_) return;
+  if (listeners_.empty()) return;
   auto snapshot = std::make_shared<Snapshot>();
   snapshot->tick = next_tick_;
   snapshot->sim_time = time_of(next_tick_);
@@ -297,7 +325,7 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   if (every_body) {
     world_.copy_poses(snapshot->ids.data(), snapshot->positions.data(), snapshot->orientations.data(),
                       snapshot->linear_velocities.data(), snapshot->angular_velocities.data());
-    listener_(std::move(snapshot));
+    hand_over(std::move(snapshot));
     return;
   }
   std::size_t next_wanted = 0;
@@ -318,7 +346,11 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
     o[2] = q.y();
     o[3] = q.z();
   }
-  listener_(std::move(snapshot));
+  hand_over(std::move(snapshot));
+}
+
+void Simulation::hand_over(std::shared_ptr<const Snapshot> snapshot) {
+  for (const SnapshotListener& listener : listeners_) listener(snapshot);
 }
 
 }  // namespace tumble::sim

@@ -24,10 +24,18 @@
 // The tick and sim time only ever grow: Reset puts the bodies back but not
 // the clock, and SetTickRate changes dt from the next tick on.
 //
+// Several consumers may read the sim side by side (the network front, a
+// NATS link): each adds its listeners, and each states its own publish
+// interest and sleep-event wish as a source of its own; the sim publishes
+// for the union of the sources and hands every snapshot and event batch to
+// every listener, which takes what it needs. The sim knows nothing of who
+// they are.
+//
 // Thread: submit(), resolve(), request_snapshot(), set_publish_interest(),
-// set_sleep_events_wanted() and the read-only accessors may be called from
-// any thread. run_tick() is for tests and replays that step without the
-// clock, and only while not started. The listeners are set before start().
+// set_sleep_events_wanted(), add_publish_source() and the read-only
+// accessors may be called from any thread. run_tick() is for tests and
+// replays that step without the clock, and only while not started. The
+// listeners and the stats hooks are added before start().
 #pragma once
 
 #include <atomic>
@@ -75,6 +83,16 @@ struct SimConfig {
 // Receives each published snapshot on the sim thread; must not block.
 using SnapshotListener = std::function<void(std::shared_ptr<const Snapshot>)>;
 
+// Adds a consumer's own figures to a GetStats reply, on the sim thread;
+// must not block (reads counters).
+using StatsHook = std::function<void(tumble::v1::Stats*)>;
+
+// One consumer's publish interest and sleep-event wish (see
+// set_publish_interest): 0 is there from the start, more come from
+// add_publish_source().
+using PublishSource = std::uint32_t;
+inline constexpr PublishSource kMaxPublishSources = 64;
+
 class Simulation {
  public:
   // Builds the world of `scene`, which it keeps for Reset; fails with a
@@ -91,13 +109,17 @@ class Simulation {
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;
 
-  // Set before start(); called with each published snapshot.
-  void set_snapshot_listener(SnapshotListener listener);
+  // Added before start(); each is called with every published snapshot, in
+  // the order they were added.
+  void add_snapshot_listener(SnapshotListener listener);
 
-  // Set before start(); called with the events of each tick that has any.
-  // Spawns, removals and resets are always reported; sleep changes only
-  // while set_sleep_events_wanted(true).
-  void set_event_listener(WorldEventListener listener);
+  // Added before start(); each is called with the events of each tick that
+  // has any. Spawns, removals and resets are always reported; sleep changes
+  // only while a source wants them (set_sleep_events_wanted).
+  void add_event_listener(WorldEventListener listener);
+
+  // Added before start(); each fills in its part of every GetStats reply.
+  void add_stats_hook(StatsHook hook);
 
   // Set before start(): every request that can change the world is
   // recorded with the tick it is executed at, and the end of the run when
@@ -131,18 +153,23 @@ class Simulation {
   // whatever the interest is, paused or not.
   void request_snapshot();
 
-  // What the active subscriptions read: a snapshot is published after
-  // every tick that one of the periods divides, holding the bodies of the
-  // interests due at that tick (every body when one of them asks for all).
-  // Interests of at most early_bodies bodies go early (sim/publish_plan.h);
-  // the publisher draws that line. Replaces the previous interest; empty:
-  // nothing is published but what request_snapshot() and edits while
-  // paused ask for.
-  void set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies);
+  // A publish source of its own for another consumer; at most
+  // kMaxPublishSources in all (0 included), beyond which it returns 0.
+  PublishSource add_publish_source();
+
+  // What the active subscriptions of `source` read: a snapshot is published
+  // after every tick that one of the periods of any source divides, holding
+  // the bodies of the interests due at that tick (every body when one of
+  // them asks for all). Interests of at most early_bodies bodies go early
+  // (sim/publish_plan.h); the publisher draws that line, and the sim uses
+  // the largest line a source gives. Replaces the source's previous
+  // interest; every source empty: nothing is published but what
+  // request_snapshot() and edits while paused ask for.
+  void set_publish_interest(std::vector<PublishInterest> interest, std::size_t early_bodies, PublishSource source = 0);
 
   // Whether to watch for bodies falling asleep and waking (a scan of the
-  // bodies after every step), because a subscriber asked for those events.
-  void set_sleep_events_wanted(bool wanted);
+  // bodies after every step): while any source wants those events.
+  void set_sleep_events_wanted(bool wanted, PublishSource source = 0);
 
   // One pass of the loop without the clock: applies queued commands, then,
   // unless paused, steps once and publishes if due; paused, it runs one tick
@@ -187,6 +214,8 @@ class Simulation {
   // or when they are most of the world; more_follows: a larger snapshot of
   // this tick comes next.
   void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
+  // Gives a snapshot to every listener.
+  void hand_over(std::shared_ptr<const Snapshot> snapshot);
   // Takes up the latest interest and a requested snapshot, and plans the
   // snapshots of this tick in plan_.
   PublishPlan::Due plan_publish();
@@ -254,17 +283,22 @@ class Simulation {
   WorldEvents events_;                 // of the tick being made
   TickTiming timing_;
   RunRecord record_;  // the journal and the checkpoints
-  SnapshotListener listener_;
-  WorldEventListener event_listener_;
+  std::vector<SnapshotListener> listeners_;
+  std::vector<WorldEventListener> event_listeners_;
+  std::vector<StatsHook> stats_hooks_;
 
   // Shared with other threads.
   CommandQueue commands_;
   std::mutex interest_mutex_;
-  std::vector<PublishInterest> published_interest_;  // guarded by interest_mutex_
-  std::size_t published_early_bodies_ = 0;           // guarded by interest_mutex_
-  bool interest_changed_ = false;                    // guarded by interest_mutex_
+  // A source's interest as it last stated it.
+  struct SourceInterest {
+    std::vector<PublishInterest> interest;
+    std::size_t early_bodies = 0;
+  };
+  std::vector<SourceInterest> sources_{1};  // by PublishSource; guarded by interest_mutex_
+  bool interest_changed_ = false;           // guarded by interest_mutex_
   std::atomic<bool> snapshot_requested_{false};
-  std::atomic<bool> sleep_events_wanted_{false};
+  std::atomic<std::uint64_t> sleep_events_sources_{0};  // bit s: source s wants sleep events
   std::atomic<double> tick_rate_hz_;
   std::atomic<std::uint64_t> tick_{0};
   std::atomic<double> sim_time_{0};

@@ -257,8 +257,8 @@ class Run {
     tumble::sim::SimConfig config;
     config.max_bodies = kMaxBodies;
     if (!tumble::sim::Simulation::create(scene, config, &sim_).ok()) breach("the scene does not build");
-    sim_->set_snapshot_listener([this](std::shared_ptr<const tumble::sim::Snapshot> s) { check_snapshot(*s); });
-    sim_->set_event_listener([this](std::shared_ptr<const tumble::sim::WorldEvents> events) {
+    sim_->add_snapshot_listener([this](std::shared_ptr<const tumble::sim::Snapshot> s) { check_snapshot(*s); });
+    sim_->add_event_listener([this](std::shared_ptr<const tumble::sim::WorldEvents> events) {
       for (const auto& event : *events) {
         // An edit applied while running is dated the next tick; a Pause in
         // the same pass keeps the world at the current one, a tick short.

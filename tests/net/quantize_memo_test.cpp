@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "net/quantize_memo.h"
+#include "frames/quantize_memo.h"
 #include "sim/snapshot.h"
 #include "wire/quantized_poses.h"
 
@@ -63,7 +63,7 @@ class QuantizeMemoTest : public ::testing::TestWithParam<bool> {};
 
 TEST_P(QuantizeMemoTest, ReusesTheRecordsOfUnchangedBodiesOnly) {
   const bool velocities = GetParam();
-  QuantizeMemo memo;
+  frames::QuantizeMemo memo;
   std::vector<Pose> poses = forty_bodies();
   const auto check = [&](std::size_t expected_fresh, const char* step) {
     const sim::Snapshot s = snapshot_of(poses);
@@ -103,7 +103,7 @@ TEST_P(QuantizeMemoTest, ReusesTheRecordsOfUnchangedBodiesOnly) {
 
 TEST_P(QuantizeMemoTest, ReadsOnlyTheFilteredBodies) {
   const bool velocities = GetParam();
-  QuantizeMemo memo;
+  frames::QuantizeMemo memo;
   std::vector<Pose> poses = forty_bodies();
   const std::vector<physics::BodyId> filter{3, 9, 10, 27, 99};  // 99 is not in the world
   sim::Snapshot s = snapshot_of(poses);

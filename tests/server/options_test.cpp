@@ -279,5 +279,40 @@ TEST_F(ServerOptionsTest, HelpAndVersionExitZeroWithTextForStandardOutput) {
   EXPECT_EQ(version.text, std::string(kVersion) + "\n");
 }
 
+TEST_F(ServerOptionsTest, NatsFlagsParseWithTheirDefaults) {
+  const ServerOptions options = options_of({"--nats", "nats://a:4222,tls://u:p@b:4443", "--world", "demo"});
+  EXPECT_EQ(options.nats_urls, (std::vector<std::string>{"nats://a:4222", "tls://u:p@b:4443"}));
+  EXPECT_EQ(options.world, "demo");
+  ASSERT_EQ(options.nats_streams.size(), 1u);
+  EXPECT_EQ(options.nats_streams[0].name, "q60");
+  EXPECT_EQ(options.nats_streams[0].encoding, tumble::v1::POSE_ENCODING_QUANTIZED);
+  EXPECT_DOUBLE_EQ(options.nats_key_interval_seconds, 1);
+  const ServerOptions many =
+      options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-stream", "f=full@30:all", "--nats-stream",
+                  "d=delta@60", "--nats-key-interval", "0.5", "--listen", "none"});
+  ASSERT_EQ(many.nats_streams.size(), 2u);
+  EXPECT_EQ(many.nats_streams[1].encoding, tumble::v1::POSE_ENCODING_DELTA);
+  EXPECT_DOUBLE_EQ(many.nats_key_interval_seconds, 0.5);
+  EXPECT_FALSE(many.serve_tcp);
+}
+
+TEST_F(ServerOptionsTest, BadNatsValuesAreOneLineNamingTheFlag) {
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "a.b"}).find("--world"), std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "a*"}).find("--world"), std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222"}).find("--world"), std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-stream", "q=zip@5"}).find("--nats-stream"),
+            std::string::npos);
+  EXPECT_NE(usage_error(
+                {"--nats", "nats://a:4222", "--world", "w", "--nats-stream", "q=full@5", "--nats-stream", "q=delta@5"})
+                .find("two streams are named 'q'"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-creds", "/nonexistent/x.creds"})
+                .find("--nats-creds"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "http://a:4222", "--world", "w"}).find("--nats"), std::string::npos);
+  EXPECT_NE(usage_error({"--listen", "none"}).find("--nats"), std::string::npos);
+  EXPECT_NE(usage_error({"--world", "w"}).find("--nats"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tumble::server

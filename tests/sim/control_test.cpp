@@ -109,7 +109,7 @@ ClientMessage step_message(std::uint32_t ticks) {
 class Driver {
  public:
   explicit Driver(std::unique_ptr<Simulation> sim) : sim_(std::move(sim)) {
-    sim_->set_event_listener([this](std::shared_ptr<const WorldEvents> events) {
+    sim_->add_event_listener([this](std::shared_ptr<const WorldEvents> events) {
       events_.insert(events_.end(), events->begin(), events->end());
     });
   }
@@ -597,6 +597,23 @@ TEST(ControlSleep, SleepEventsAreReportedOnlyWhenWanted) {
   EXPECT_FALSE(driver.world().is_awake(1));
 }
 
+TEST(ControlSleep, SleepEventsAreWatchedWhileAnySourceWantsThem) {
+  Driver driver(make_sim(kRestingScene));
+  driver.run(400);  // asleep by now
+  ASSERT_FALSE(driver.world().is_awake(1));
+  const PublishSource other = driver.sim().add_publish_source();
+  driver.sim().set_sleep_events_wanted(true, other);
+  driver.sim().set_sleep_events_wanted(false);  // source 0 does not want them; the other still does
+  driver.run(1);
+  driver.request(impulse("crate", 0, 3));
+  ASSERT_EQ(driver.events().size(), 1u);
+  EXPECT_EQ(driver.events()[0].kind, WorldEventKind::body_awake);
+  driver.sim().set_sleep_events_wanted(false, other);
+  for (int i = 0; i < 1200 && driver.world().is_awake(1); ++i) driver.run(1);
+  ASSERT_FALSE(driver.world().is_awake(1));
+  EXPECT_EQ(driver.events().size(), 1u) << "nobody wants sleep events any more";
+}
+
 TEST_F(ControlTest, SetTickRateChangesTheStepFromTheNextTick) {
   driver_.run(24);  // 0.1 s at 240 Hz
   ClientMessage rate;
@@ -652,7 +669,7 @@ TEST_F(ControlTest, StatsReportTheClockTheBodiesAndTheStepTimes) {
 
 TEST_F(ControlTest, AnEditWhilePausedIsPublishedAtOnceOutOfBand) {
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
-  driver_.sim().set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  driver_.sim().add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   driver_.sim().set_publish_interest({PublishInterest{}}, kEarlyBodies);  // every body, every tick
   driver_.request(pause_message());
   snapshots.clear();

@@ -203,7 +203,7 @@ TEST_F(SimulationTest, ListBodiesDescribesEveryBody) {
 
 TEST_F(SimulationTest, ABodyWhoseStateDivergesIsRemovedWithEventsAndCounted) {
   std::vector<WorldEvent> events;
-  sim_->set_event_listener(
+  sim_->add_event_listener(
       [&](std::shared_ptr<const WorldEvents> batch) { events.insert(events.end(), batch->begin(), batch->end()); });
   // Every number within the ranges: the lightest body and the largest force.
   // a = 1e9 N / 1e-6 kg = 1e15 m/s^2, so one step of 1/240 s makes v = 4.2e12 m/s.
@@ -258,7 +258,7 @@ TEST_F(SimulationTest, ABodyWhoseStateDivergesIsRemovedWithEventsAndCounted) {
 
 TEST_F(SimulationTest, ABodyThatTurnsNaNIsRemovedBeforeAnyoneSeesIt) {
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
-  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  sim_->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   // Past the request checks, as a bug would be: a force that is not a number.
   ClientMessage poison = force("ball", std::nan(""), 0, 0);
   poison.set_request_id(++request_id_);
@@ -276,7 +276,7 @@ TEST_F(SimulationTest, ABodyThatTurnsNaNIsRemovedBeforeAnyoneSeesIt) {
 
 TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
   std::vector<std::uint64_t> ticks;
-  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { ticks.push_back(s->tick); });
+  sim_->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { ticks.push_back(s->tick); });
   for (int i = 0; i < 5; ++i) sim_->run_tick();
   EXPECT_TRUE(ticks.empty()) << "nobody subscribed";
   sim_->set_publish_interest({PublishInterest{4, true, {}}, PublishInterest{6, false, {ball_}}}, kEarlyBodies);
@@ -288,9 +288,48 @@ TEST_F(SimulationTest, PublishesOnTheTicksItsPeriodsDivideAndWhenAsked) {
   EXPECT_EQ(ticks.back(), 13u);
 }
 
+TEST_F(SimulationTest, PublishesForTheUnionOfItsSourcesToEveryListener) {
+  std::vector<std::uint64_t> first;
+  std::vector<std::uint64_t> second;
+  sim_->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { first.push_back(s->tick); });
+  sim_->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) {
+    EXPECT_TRUE(s->all_bodies);
+    second.push_back(s->tick);
+  });
+  const PublishSource other = sim_->add_publish_source();
+  ASSERT_NE(other, 0u);
+  // Source 0 every 4 ticks, the other every 6: each is served, neither replaces the other.
+  sim_->set_publish_interest({PublishInterest{4, true, {}}}, kEarlyBodies);
+  sim_->set_publish_interest({PublishInterest{6, true, {}}}, 0, other);
+  for (int i = 0; i < 12; ++i) sim_->run_tick();  // ticks 1..12
+  EXPECT_EQ(first, (std::vector<std::uint64_t>{4, 6, 8, 12}));
+  EXPECT_EQ(second, first);
+  // One source going quiet leaves the other's interest in place.
+  sim_->set_publish_interest({}, kEarlyBodies);
+  first.clear();
+  for (int i = 0; i < 12; ++i) sim_->run_tick();  // ticks 13..24
+  EXPECT_EQ(first, (std::vector<std::uint64_t>{18, 24}));
+}
+
+TEST_F(SimulationTest, EveryEventListenerAndStatsHookIsServed) {
+  std::size_t batches_a = 0;
+  std::size_t batches_b = 0;
+  sim_->add_event_listener([&](std::shared_ptr<const WorldEvents>) { ++batches_a; });
+  sim_->add_event_listener([&](std::shared_ptr<const WorldEvents>) { ++batches_b; });
+  sim_->add_stats_hook([](tumble::v1::Stats* stats) { stats->mutable_nats()->set_world("hooked"); });
+  ClientMessage remove;
+  remove.mutable_remove_body()->mutable_body()->set_name("ball");
+  ASSERT_TRUE(request(remove).has_ack());
+  EXPECT_EQ(batches_a, 1u);
+  EXPECT_EQ(batches_b, 1u);
+  ClientMessage stats;
+  stats.mutable_get_stats();
+  EXPECT_EQ(request(stats).stats().nats().world(), "hooked");
+}
+
 TEST_F(SimulationTest, SnapshotHoldsOnlyTheBodiesTheDueInterestsRead) {
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
-  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  sim_->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   // The ball and an id that is not in the world (a body removed before the
   // interest caught up) every tick, the crate every second tick, every
   // body every third.
@@ -372,7 +411,7 @@ TEST(SimulationSnapshots, SmallStreamsGoFirstAndMostOfTheWorldIsCopiedWhole) {
   const physics::BodyId probe = 3;
   sim->set_publish_interest({PublishInterest{1, false, {probe}}, PublishInterest{4, false, most}}, kEarlyBodies);
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
-  sim->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  sim->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   for (int i = 0; i < 8; ++i) sim->run_tick();  // ticks 1..8
 
   ASSERT_EQ(snapshots.size(), 10u) << "two snapshots at ticks 4 and 8";
@@ -410,7 +449,7 @@ TEST(SimulationSnapshots, LargeStreamsDueTogetherGetTheUnionOfTheirBodies) {
       {PublishInterest{3, false, run}, PublishInterest{1, false, {probe}}, PublishInterest{2, false, evens}},
       kEarlyBodies);
   std::vector<std::shared_ptr<const Snapshot>> snapshots;
-  sim->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  sim->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
   for (int i = 0; i < 6; ++i) sim->run_tick();  // ticks 1..6
 
   // The large snapshot holds every due stream's bodies, the probe's too.
@@ -444,7 +483,7 @@ TEST(SimulationSnapshots, LargeStreamsDueTogetherGetTheUnionOfTheirBodies) {
 
 TEST_F(SimulationTest, SnapshotHoldsThePosesAfterTheStep) {
   std::shared_ptr<const Snapshot> last;
-  sim_->set_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { last = std::move(s); });
+  sim_->add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { last = std::move(s); });
   sim_->request_snapshot();
   ClientMessage message;
   message.mutable_apply_impulse()->mutable_body()->set_name("ball");

@@ -12,7 +12,7 @@ const kWebDir = path.resolve(path.dirname(fileURLToPath(import.meta.url)), "..",
 
 // What is missing of web/node_modules, or "" when it is installed.
 export function missingNodeModules() {
-  for (const name of ["playwright-core", "protobufjs", "three", "esbuild"]) {
+  for (const name of ["playwright-core", "protobufjs", "three", "esbuild", "@nats-io/nats-core", "@nats-io/transport-node"]) {
     if (!fs.existsSync(path.join(kWebDir, "node_modules", name))) {
       return `web/node_modules/${name}, which is missing (scripts/install-deps.sh --viewer runs npm ci in web/)`;
     }

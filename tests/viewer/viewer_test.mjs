@@ -2,7 +2,10 @@
 // page draws the bodies where its hook says, follows a push sent from the
 // real CLI, shows a selected body, pushes a body dragged with the mouse,
 // tells an observer that pushing needs a controller token, and reconnects
-// when the server comes back. Saves a screenshot.
+// when the server comes back. The same page through NATS's WebSocket
+// listener (a real nats-server the server publishes into): it draws the
+// bodies where the pose stream puts them and a drag pushes; an observer's
+// push is refused by NATS. Saves a screenshot.
 //
 //   node viewer_test.mjs --tumbled PATH --tumble PATH --scene scenes/playground.json --screenshot OUT.png
 //
@@ -14,6 +17,7 @@ import { parseArgs } from "node:util";
 import { after, before, test } from "node:test";
 
 import { launchChromium, missingPrerequisite } from "./browser.mjs";
+import { kUsers, natsServerPath, startNatsServer } from "./nats_server.mjs";
 import { startTumbled } from "./tumbled.mjs";
 
 const { values: options } = parseArgs({
@@ -37,8 +41,15 @@ const kMovedPx = 40;    // a body pushed off its place moves at least this far o
 
 let server = null;
 let browser = null;
+let nats = null;  // the nats-server the world is also published into; null without nats-server
 const serverArgs = ["--scene", options.scene, "--tick-rate", "120",
                     "--token", kControllerToken, "--observer-token", kObserverToken];
+// The NATS pose stream the page reads: DELTA, so the page's sequence rule is in play.
+const kNatsWorld = "demo";
+const kNatsArgs = () => ["--nats", nats.url.replace("nats://", `nats://${kUsers.tumbled.user}:${kUsers.tumbled.pass}@`),
+                         "--world", kNatsWorld, "--nats-stream", "d60=delta@60"];
+const natsFragment = (who) =>
+  `#nats=${nats.wsUrl}&world=${kNatsWorld}&user=${kUsers[who].user}&pass=${kUsers[who].pass}`;
 
 // Runs the real CLI against the server; returns its parsed --json output.
 async function tumble(...args) {
@@ -181,6 +192,10 @@ async function waitUntilMovedOnScreen(page, id, from, px) {
 const colorDistance = (a, b) => Math.hypot(...a.map((x, i) => x - b[i]));
 
 before(async () => {
+  if (natsServerPath()) {
+    nats = await startNatsServer();
+    serverArgs.push(...kNatsArgs());
+  }
   server = await startTumbled(options.tumbled, serverArgs, { http: true });
   browser = await launchChromium();
 });
@@ -188,6 +203,7 @@ before(async () => {
 after(async () => {
   await browser?.close();
   await server?.stop();
+  await nats?.stop();
 });
 
 test("the page draws the bodies, follows a push from the CLI and shows a selected body", async () => {
@@ -309,5 +325,75 @@ test("the page says when the server went away and reconnects when it is back", a
   await waitUntilReady(page);
   assert.equal(await page.locator('[data-hud="connection"]').textContent(), "connected");
   assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+const kNatsSkip = () => (natsServerPath() ? false : "nats-server is missing");
+
+test("through NATS the page draws the bodies where the pose stream puts them, and a drag pushes", { skip: kNatsSkip() }, async () => {
+  const page = await openViewer(natsFragment("controller"));
+  await waitUntilReady(page);
+  assert.equal(await page.evaluate(() => window.tumbleViewer.role), "ROLE_CONTROLLER");
+  const cliIds = (await tumble("bodies")).bodies.map((b) => b.id).sort((a, b) => a - b);
+  assert.deepEqual(await page.evaluate(() => window.tumbleViewer.bodyIds().sort((a, b) => a - b)), cliIds);
+
+  // At rest, crate4 is drawn where the server has it, within the DELTA stream's grid (1/1024 m).
+  const resting = await waitUntilAtRest("crate4");
+  await waitUntilDrawnPast(page, resting.tick);
+  const crate = await page.evaluate(() => window.tumbleViewer.bodyId("crate4"));
+  const drawn = await page.evaluate((id) => window.tumbleViewer.position(id), crate);
+  assert.ok(distance(drawn, resting.position) < 2e-3,
+            `crate4 is drawn at ${drawn}, the server has it at ${resting.position}`);
+
+  // A drag sends ApplyImpulse over .rpc: the server moves the pill, and the page shows it moving.
+  const rest = await waitUntilAtRest("pill");
+  await waitUntilDrawnPast(page, rest.tick);
+  const pill = await page.evaluate(() => window.tumbleViewer.bodyId("pill"));
+  const from = await screenPosition(page, pill);
+  await page.mouse.move(from.x, from.y);
+  await page.mouse.down();
+  await page.mouse.move(from.x - 60, from.y - 10, { steps: 5 });
+  await page.mouse.move(from.x - 120, from.y - 20, { steps: 5 });
+  await page.mouse.up();
+  await waitUntilMovedOnScreen(page, pill, from, kMovedPx);
+  const deadline = Date.now() + kWaitMs;
+  let moved = 0;
+  while ((moved = distance((await bodyFromCli("pill")).position, rest.position)) < 0.3 && Date.now() < deadline) {
+    await new Promise((resolve) => setTimeout(resolve, 200));
+  }
+  assert.ok(moved >= 0.3, `the dragged pill moved ${moved} m on the server`);
+  assert.equal(await page.locator("#inspector .inspector-note").count(), 0);
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+test("through NATS an observer sees every body, and NATS refuses its push", { skip: kNatsSkip() }, async () => {
+  const page = await openViewer(natsFragment("observer"));
+  await waitUntilReady(page);
+  assert.equal(await page.evaluate(() => window.tumbleViewer.role), "ROLE_OBSERVER");
+  assert.equal(await page.locator('[data-hud="role"]').textContent(), "observer");
+  const resting = await waitUntilAtRest("crate2");
+  await waitUntilDrawnPast(page, resting.tick);
+  // The observer may not list bodies (a .rpc request): it knows them by id from the stream.
+  const id = resting.id;
+  const drawn = await page.evaluate((id) => window.tumbleViewer.position(id), id);
+  assert.ok(distance(drawn, resting.position) < 2e-3, `crate2 is drawn at ${drawn}, the server has it at ${resting.position}`);
+  const at = await screenPosition(page, id);
+  await page.mouse.move(at.x, at.y);
+  await page.mouse.down();
+  await page.mouse.move(at.x + 80, at.y, { steps: 5 });
+  await page.mouse.up();
+  const note = page.locator("#inspector .inspector-note");
+  await note.waitFor({ state: "visible", timeout: kWaitMs });
+  assert.match(await note.textContent(), /NATS does not let this user publish to tumble\.v1\.demo\.rpc/);
+  assert.ok(length((await bodyFromCli("crate2")).linear_velocity) < 0.02, "the observer's drag moved crate2");
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});
+
+test("through NATS a wrong password is refused", { skip: kNatsSkip() }, async () => {
+  const page = await openViewer(`#nats=${nats.wsUrl}&world=${kNatsWorld}&user=controller&pass=wrong`);
+  await page.waitForFunction(() => document.querySelector("#hud")?.dataset.connection === "refused", null, { timeout: kWaitMs });
+  assert.match(await page.locator('[data-hud="connection"]').textContent(), /[Aa]uthorization/);
   await page.close();
 });

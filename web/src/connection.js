@@ -18,6 +18,8 @@ export class Connection {
     this.failure = null;  // {attempt, why} while reconnecting
     this.socket = null;
     this.session = null;
+    // Shown when an observer tries to push.
+    this.pushNote = "Pushing needs a controller token: open the page as /#token=TOKEN.";
     // Listeners; replace to listen.
     // onState(state, detail): "connecting" (the first try), "connected"
     // (detail: the role), "retrying" (waiting; detail: {seconds, why}),

@@ -2,13 +2,17 @@
 // and lets the user select and push bodies. Wires the modules together:
 // Connection (socket, reconnects) -> Session (protocol) -> PoseBuffer and
 // TickClock (interpolation) -> WorldView (three.js), with Hud, Inspector and
-// PointerControl around it.
+// PointerControl around it. Opened as #nats=ws://HOST:PORT&world=NAME, it
+// reads the world through NATS instead: NatsLink -> NatsSession, the same
+// surface.
+import { wsconnect } from "@nats-io/nats-core";
 import descriptor from "tumble:protocol-descriptor";
 import { bodyMotion } from "./body_motion.js";
 import { Connection } from "./connection.js";
 import { Hud } from "./hud.js";
 import { Inspector } from "./inspector.js";
 import { PoseBuffer, TickClock } from "./interpolation.js";
+import { NatsLink } from "./nats_link.js";
 import { PointerControl } from "./pointer.js";
 import { protocolTypes, rootFromDescriptor } from "./schema.js";
 import { installTestHook } from "./test_hook.js";
@@ -48,9 +52,7 @@ class Viewer {
       onPush: (id, impulse, point) => this.push(id, impulse, point),
     });
 
-    const token = new URLSearchParams(location.hash.slice(1)).get("token") ?? "";
-    const scheme = location.protocol === "https:" ? "wss" : "ws";
-    this.connection = new Connection(`${scheme}://${location.host}/ws`, types, token);
+    this.connection = connectionFor(new URLSearchParams(location.hash.slice(1)));
     this.connection.onState = (state, detail) => this.hud.setConnection(state, detail);
     this.connection.onSession = (session, welcome) => this.start(session, welcome);
     this.connection.onClose = () => this.stop();
@@ -67,14 +69,13 @@ class Viewer {
     this.hud.setRole(this.role);
     this.hud.setClock(welcome.tick, welcome.simTime);
     this.clock.setRate(welcome.tickRateHz);
-    this.inspector.setNote(this.role === "ROLE_CONTROLLER" ? ""
-      : "Pushing needs a controller token: open the page as /#token=TOKEN.");
+    this.inspector.setNote(this.role === "ROLE_CONTROLLER" ? "" : this.connection.pushNote);
     session.onPoseFrame = (frame) => this.onFrame(frame);
     session.onWorldEvent = (event) => this.onEvent(event);
     session.onError = (error) => console.warn("tumble:", error.message);
     try {
       await this.listBodies();
-      const subscribed = await session.request("subscribe", {
+      const subscribed = await session.subscribePoses({
         rateHz: kStreamRateHz,
         fields: types.PoseFields.POSE_FIELDS_POSE_AND_VELOCITY,
         encoding: types.PoseEncoding.POSE_ENCODING_FULL,
@@ -189,7 +190,7 @@ class Viewer {
   // Sends ApplyImpulse when this connection may; otherwise says why not.
   push(id, impulse, point) {
     if (this.role !== "ROLE_CONTROLLER" || !this.session) {
-      this.inspector.setNote("Pushing needs a controller token: open the page as /#token=TOKEN.");
+      this.inspector.setNote(this.connection.pushNote);
       this.refreshInspector();
       return;
     }
@@ -204,6 +205,21 @@ class Viewer {
       (error) => this.inspector.setNote(`The push was refused: ${error.codeName || error.message}`),
     ).finally(() => this.refreshInspector());
   }
+}
+
+// The link the page's address asks for: through NATS with `nats=` (and
+// `world=`, `stream=`, `user=` and `pass=` or `token=`), else tumbled's own
+// WebSocket with `token=`.
+function connectionFor(params) {
+  const get = (name) => params.get(name) ?? "";
+  if (params.has("nats")) {
+    return new NatsLink(wsconnect, {
+      servers: get("nats"), world: get("world"), stream: get("stream"),
+      user: get("user"), pass: get("pass"), token: get("token"),
+    }, types);
+  }
+  const scheme = location.protocol === "https:" ? "wss" : "ws";
+  return new Connection(`${scheme}://${location.host}/ws`, types, get("token"));
 }
 
 installTestHook(new Viewer());

@@ -14,6 +14,25 @@ export class ProtocolError extends Error {
   }
 }
 
+// Every body, page after page: `listPage(startId)` resolves with a
+// BodyList, asked for from each BodyList's nextStartId until it is 0.
+// Resolves with their BodyInfo in ascending id order; rejects as the pages
+// do, or when the pages do not advance.
+export async function listPages(listPage) {
+  const bodies = [];
+  let startId = 0;
+  for (;;) {
+    const page = await listPage(startId);
+    for (const body of page.bodies) bodies.push(body);
+    if (!page.nextStartId) return bodies;
+    // Ids only grow from page to page; anything else would never end.
+    if (page.nextStartId <= startId) {
+      throw new ProtocolError(`the server's BodyList pages do not advance: nextStartId ${page.nextStartId}`);
+    }
+    startId = page.nextStartId;
+  }
+}
+
 // The ServerMessage fields that answer a request, by the oneof's name.
 const kReplies = new Set(["ack", "error", "bodyList", "subscribed", "stats"]);
 
@@ -44,6 +63,12 @@ export class Session {
     });
   }
 
+  // Starts the pose stream the viewer draws (a Subscribe) and resolves
+  // with its Subscribed.
+  subscribePoses(subscribe) {
+    return this.request("subscribe", subscribe);
+  }
+
   // Sends one request, e.g. request("applyImpulse", {body: {id: 3}, impulse: {...}}),
   // and resolves with its reply (Ack, BodyList, Subscribed or Stats), or
   // rejects with a ProtocolError.
@@ -56,22 +81,9 @@ export class Session {
     });
   }
 
-  // Every body, page after page (ListBodies from each BodyList's nextStartId
-  // until it is 0), and resolves with their BodyInfo in ascending id order;
-  // rejects as request() does.
-  async listAllBodies() {
-    const bodies = [];
-    let startId = 0;
-    for (;;) {
-      const page = await this.request("listBodies", { startId });
-      for (const body of page.bodies) bodies.push(body);
-      if (!page.nextStartId) return bodies;
-      // Ids only grow from page to page; anything else would never end.
-      if (page.nextStartId <= startId) {
-        throw new ProtocolError(`the server's BodyList pages do not advance: nextStartId ${page.nextStartId}`);
-      }
-      startId = page.nextStartId;
-    }
+  // Every body, page after page; see listPages().
+  listAllBodies() {
+    return listPages((startId) => this.request("listBodies", { startId }));
   }
 
   write(fields) {

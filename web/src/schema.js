@@ -15,6 +15,7 @@ export function protocolTypes(root) {
   return {
     ClientMessage: root.lookupType("tumble.v1.ClientMessage"),
     ServerMessage: root.lookupType("tumble.v1.ServerMessage"),
+    WorldInfo: root.lookupType("tumble.v1.WorldInfo"),
     Role: root.lookupEnum("tumble.v1.Role").values,
     ErrorCode: root.lookupEnum("tumble.v1.ErrorCode").values,
     WorldEventKind: root.lookupEnum("tumble.v1.WorldEventKind").values,

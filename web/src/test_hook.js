@@ -15,6 +15,11 @@ export function installTestHook(viewer) {
       for (const [id, body] of viewer.view.bodies) if (body.info.name === name) return id;
       return null;
     },
+    // Where body `id` is drawn in the world, [x, y, z] m, or null.
+    position: (id) => {
+      const mesh = viewer.view.bodies.get(id)?.mesh;
+      return mesh ? mesh.position.toArray() : null;
+    },
     // Where body `id`'s centre is drawn, {x, y} in CSS pixels, or null.
     screenPosition: (id) => viewer.view.screenPosition(id),
     // The id of the selected body, or null.

@@ -1,9 +1,9 @@
-#include "net/quantize_memo.h"
+#include "frames/quantize_memo.h"
 
 #include <algorithm>
 #include <cstring>
 
-namespace tumble::net {
+namespace tumble::frames {
 
 namespace {
 
@@ -70,4 +70,4 @@ std::vector<wire::QuantizedBody> QuantizeMemo::quantize(const sim::Snapshot& sna
   return sorted;
 }
 
-}  // namespace tumble::net
+}  // namespace tumble::frames

@@ -12,7 +12,8 @@
 // never a wrong record; a reused record equals what quantize_body() would
 // make, since the values are the same to the bit.
 //
-// Thread: owned by one stream, used on the I/O thread only.
+// Thread: owned by one stream, used on the thread that publishes it (net's
+// I/O thread, or the NATS publisher's).
 #pragma once
 
 #include <cstddef>
@@ -23,7 +24,7 @@
 #include "tumble/physics/body.h"
 #include "wire/quantized_poses.h"
 
-namespace tumble::net {
+namespace tumble::frames {
 
 class QuantizeMemo {
  public:
@@ -52,4 +53,4 @@ class QuantizeMemo {
   std::size_t quantized_last_ = 0;
 };
 
-}  // namespace tumble::net
+}  // namespace tumble::frames

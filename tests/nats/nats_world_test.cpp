@@ -1,0 +1,273 @@
+// tumbled serving a world over NATS, end to end: a real tumbled process
+// and a real nats-server on loopback ports; every assertion is on what
+// arrives over NATS (and TCP), on ticks and sequences, never on wall time.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "cli_helpers.h"
+#include "nats_server_process.h"
+#include "nats_test_client.h"
+#include "poll_until.h"
+#include "tumble/v1/protocol.pb.h"
+#include "tumble/v1/world_info.pb.h"
+#include "tumbled_process.h"
+#include "wire/quantized_poses.h"
+
+namespace tumble::test {
+namespace {
+
+using tumble::v1::ClientMessage;
+using tumble::v1::ServerMessage;
+
+ServerMessage parse(const std::string& bytes) {
+  ServerMessage message;
+  EXPECT_TRUE(message.ParseFromString(bytes));
+  return message;
+}
+
+std::string force_on(const std::string& body, double fx, std::uint64_t request_id) {
+  ClientMessage message;
+  message.set_request_id(request_id);
+  auto& force = *message.mutable_apply_force();
+  force.mutable_body()->set_name(body);
+  force.mutable_force()->set_x(fx);
+  force.set_ticks(1);
+  return message.SerializeAsString();
+}
+
+std::string stats_request(std::uint64_t request_id) {
+  ClientMessage message;
+  message.set_request_id(request_id);
+  message.mutable_get_stats();
+  return message.SerializeAsString();
+}
+
+class NatsWorld : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(nats_.start()) << nats_.log(); }
+
+  std::unique_ptr<TumbledProcess> start_tumbled(std::vector<std::string> args = {}) {
+    std::vector<std::string> all = {"--nats", nats_.url(), "--world", "lab"};
+    all.insert(all.end(), args.begin(), args.end());
+    auto tumbled = std::make_unique<TumbledProcess>(kFloatingScene, all);
+    EXPECT_TRUE(tumbled->started()) << tumbled->log();
+    return tumbled;
+  }
+
+  // The Stats reply over .rpc once the link is up.
+  bool wait_connected(NatsTestClient& client) {
+    return poll_until([&] {
+      auto reply = client.request("tumble.v1.lab.rpc", stats_request(1), std::chrono::milliseconds(500));
+      return reply && parse(*reply).stats().nats().connected();
+    });
+  }
+
+  NatsServerProcess nats_;
+};
+
+TEST_F(NatsWorld, TheWorldsRequestIsAnsweredWithItsStreamsAndSubjects) {
+  auto tumbled = start_tumbled({"--nats-stream", "f30=full@30:all", "--nats-stream", "d60=delta@60"});
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  const std::vector<std::string> replies = client.request_many("tumble.v1.worlds", "");
+  ASSERT_EQ(replies.size(), 1u);
+  tumble::v1::WorldInfo info;
+  ASSERT_TRUE(info.ParseFromString(replies[0]));
+  EXPECT_EQ(info.world(), "lab");
+  EXPECT_EQ(info.bodies(), 2u);
+  EXPECT_GT(info.tick_rate_hz(), 0);
+  EXPECT_EQ(info.rpc_subject(), "tumble.v1.lab.rpc");
+  EXPECT_EQ(info.events_subject(), "tumble.v1.lab.events");
+  EXPECT_FALSE(info.server_id().empty());
+  ASSERT_EQ(info.streams_size(), 2);
+  EXPECT_EQ(info.streams(0).name(), "f30");
+  EXPECT_EQ(info.streams(0).subject(), "tumble.v1.lab.poses.f30");
+  EXPECT_EQ(info.streams(0).encoding(), tumble::v1::POSE_ENCODING_FULL);
+  EXPECT_EQ(info.streams(0).fields(), tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
+  EXPECT_EQ(info.streams(1).encoding(), tumble::v1::POSE_ENCODING_DELTA);
+  EXPECT_DOUBLE_EQ(info.streams(1).key_interval_s(), 1.0);
+}
+
+TEST_F(NatsWorld, AForceOverRpcIsAckedAndMovesTheBodyInTheNextFullFrame) {
+  auto tumbled = start_tumbled({"--nats-stream", "f=full@60:all"});
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  auto frames = client.subscribe("tumble.v1.lab.poses.f");
+  ASSERT_TRUE(frames);
+  auto reply = client.request("tumble.v1.lab.rpc", force_on("crate", 240, 7));
+  ASSERT_TRUE(reply) << client.error();
+  const ServerMessage ack = parse(*reply);
+  ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
+  EXPECT_EQ(ack.ack().request_id(), 7u);
+  const std::uint64_t applied = ack.ack().applied_tick();
+  EXPECT_GT(applied, 0u);
+  // A frame of a tick after the force shows the crate moving along +x.
+  ASSERT_TRUE(frames->wait([&](const std::vector<NatsMessage>& messages) {
+    for (const NatsMessage& m : messages) {
+      const ServerMessage frame = parse(m.data);
+      if (frame.pose_frame().tick() > applied) return true;
+    }
+    return false;
+  }));
+  for (const NatsMessage& m : frames->messages()) {
+    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    if (frame.tick() <= applied) continue;
+    ASSERT_GE(frame.linear_velocities_size(), 3);
+    // The crate is body 1 of the floating scene: first in the frame.
+    EXPECT_GT(frame.linear_velocities(0), 0.0f) << "tick " << frame.tick();
+    break;
+  }
+}
+
+TEST_F(NatsWorld, APayloadThatIsNotAClientMessageGetsAnErrorAndChangesNothing) {
+  auto tumbled = start_tumbled({"--nats-stream", "f=full@60:all"});
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  auto reply = client.request("tumble.v1.lab.rpc", std::string("\xff\xff\xff\x0f garbage", 12));
+  ASSERT_TRUE(reply) << client.error();
+  const ServerMessage error = parse(*reply);
+  ASSERT_TRUE(error.has_error());
+  EXPECT_EQ(error.error().code(), tumble::v1::INVALID_ARGUMENT);
+  EXPECT_NE(error.error().message().find("not a ClientMessage"), std::string::npos);
+  // The world is as it was: both bodies still at rest in the floating scene.
+  auto frames = client.subscribe("tumble.v1.lab.poses.f");
+  ASSERT_TRUE(frames && frames->wait_count(1));
+  const tumble::v1::PoseFrame frame = parse(frames->messages()[0].data).pose_frame();
+  ASSERT_EQ(frame.ids_size(), 2);
+  for (int i = 0; i < frame.linear_velocities_size(); ++i) EXPECT_EQ(frame.linear_velocities(i), 0.0f);
+}
+
+TEST_F(NatsWorld, SubscribeOverRpcIsRefusedNamingThePoseSubject) {
+  auto tumbled = start_tumbled();
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  ClientMessage subscribe;
+  subscribe.set_request_id(3);
+  subscribe.mutable_subscribe()->set_rate_hz(10);
+  auto reply = client.request("tumble.v1.lab.rpc", subscribe.SerializeAsString());
+  ASSERT_TRUE(reply);
+  const ServerMessage error = parse(*reply);
+  ASSERT_TRUE(error.has_error());
+  EXPECT_EQ(error.error().request_id(), 3u);
+  EXPECT_EQ(error.error().code(), tumble::v1::INVALID_ARGUMENT);
+  EXPECT_NE(error.error().message().find("tumble.v1.lab.poses.q60"), std::string::npos) << error.error().message();
+}
+
+TEST_F(NatsWorld, StatsOverRpcAndTcpReportTheLink) {
+  auto tumbled = start_tumbled();
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  const ServerMessage stats = parse(*client.request("tumble.v1.lab.rpc", stats_request(5)));
+  EXPECT_EQ(stats.stats().request_id(), 5u);
+  EXPECT_TRUE(stats.stats().nats().connected());
+  EXPECT_EQ(stats.stats().nats().world(), "lab");
+  EXPECT_EQ(stats.stats().nats().server_url(), nats_.url());
+  EXPECT_GT(stats.stats().nats().messages_out(), 0u);
+  EXPECT_GT(stats.stats().nats().requests_in(), 0u);
+  const CommandResult tcp = tumbled->cli({"--json", "stats"});
+  EXPECT_EQ(tcp.exit_code, 0) << tcp.err;
+}
+
+TEST_F(NatsWorld, ListBodiesOverRpcIsPaged) {
+  auto tumbled = start_tumbled();
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  ClientMessage list;
+  list.set_request_id(9);
+  list.mutable_list_bodies()->set_max_bodies(1);
+  const ServerMessage first = parse(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
+  ASSERT_TRUE(first.has_body_list()) << first.DebugString();
+  ASSERT_EQ(first.body_list().bodies_size(), 1);
+  EXPECT_GT(first.body_list().next_start_id(), 0u);
+  list.mutable_list_bodies()->set_start_id(first.body_list().next_start_id());
+  const ServerMessage second = parse(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
+  ASSERT_EQ(second.body_list().bodies_size(), 1);
+  EXPECT_NE(second.body_list().bodies(0).id(), first.body_list().bodies(0).id());
+}
+
+TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheInterval) {
+  auto tumbled =
+      start_tumbled({"--nats-stream", "q=quantized@60", "--nats-stream", "d=delta@60", "--nats-key-interval", "0.25"});
+  NatsTestClient client(nats_.url());
+  auto quantized = client.subscribe("tumble.v1.lab.poses.q");
+  auto delta = client.subscribe("tumble.v1.lab.poses.d");
+  ASSERT_TRUE(quantized && delta);
+  ASSERT_TRUE(delta->wait_count(60));
+  for (auto* collector : {quantized.get(), delta.get()}) {
+    const std::vector<NatsMessage> messages = collector->messages();
+    for (std::size_t i = 1; i < messages.size(); ++i) {
+      EXPECT_EQ(parse(messages[i].data).pose_frame().sequence(),
+                parse(messages[i - 1].data).pose_frame().sequence() + 1);
+    }
+  }
+  // Key frames at least every 0.25 s of sim time, and not every frame.
+  std::vector<double> key_times;
+  std::size_t changes = 0;
+  for (const NatsMessage& m : delta->messages()) {
+    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    EXPECT_EQ(frame.encoding(), tumble::v1::POSE_ENCODING_DELTA);
+    if (frame.key_frame()) {
+      key_times.push_back(frame.sim_time());
+    } else {
+      ++changes;
+    }
+  }
+  ASSERT_GE(key_times.size(), 2u);
+  EXPECT_GT(changes, key_times.size());
+  for (std::size_t i = 1; i < key_times.size(); ++i) {
+    EXPECT_NEAR(key_times[i] - key_times[i - 1], 0.25, 1.0 / 60 + 1e-9);
+  }
+}
+
+TEST_F(NatsWorld, AKeyRequestAnswersTheLatestFrameWholeWithItsSequence) {
+  auto tumbled = start_tumbled({"--nats-stream", "d=delta@60", "--nats-key-interval", "100"});
+  NatsTestClient client(nats_.url());
+  auto delta = client.subscribe("tumble.v1.lab.poses.d");
+  ASSERT_TRUE(delta && delta->wait_count(3));
+  auto reply = client.request("tumble.v1.lab.key.d", "");
+  ASSERT_TRUE(reply) << client.error();
+  const tumble::v1::PoseFrame key = parse(*reply).pose_frame();
+  EXPECT_TRUE(key.key_frame());
+  EXPECT_GT(key.sequence(), 1u);
+  const auto poses = wire::decode_quantized_poses(key.packed());
+  ASSERT_TRUE(poses);
+  EXPECT_EQ(poses->bodies.size(), 2u);
+  // A change numbered sequence + 1 follows on the stream.
+  EXPECT_TRUE(delta->wait([&](const std::vector<NatsMessage>& messages) {
+    for (const NatsMessage& m : messages) {
+      if (parse(m.data).pose_frame().sequence() == key.sequence() + 1) return true;
+    }
+    return false;
+  }));
+}
+
+TEST_F(NatsWorld, TwoTumbledOfOneWorldAnswerAnRpcOnce) {
+  auto first = start_tumbled();
+  auto second = start_tumbled();
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  // Both are there: two replies to the worlds request.
+  ASSERT_TRUE(poll_until([&] { return client.request_many("tumble.v1.worlds", "").size() == 2; }));
+  const std::vector<std::string> replies = client.request_many("tumble.v1.lab.rpc", stats_request(11));
+  EXPECT_EQ(replies.size(), 1u);
+}
+
+TEST(NatsWorldStart, TumbledStartedWhileNatsIsDownServesTcpAndConnectsLater) {
+  NatsServerProcess nats;
+  TumbledProcess tumbled(kFloatingScene, {"--nats", nats.url(), "--world", "late"});
+  ASSERT_TRUE(tumbled.started()) << tumbled.log();
+  EXPECT_TRUE(poll_until([&] { return tumbled.log().find("NATS link down") != std::string::npos; })) << tumbled.log();
+  const CommandResult bodies = tumbled.cli({"bodies"});
+  EXPECT_EQ(bodies.exit_code, 0) << bodies.err;
+  ASSERT_TRUE(nats.start()) << nats.log();
+  NatsTestClient client(nats.url());
+  EXPECT_TRUE(poll_until([&] {
+    auto reply = client.request("tumble.v1.late.rpc", stats_request(1), std::chrono::milliseconds(500));
+    return reply && parse(*reply).stats().nats().connected();
+  })) << tumbled.log();
+  EXPECT_NE(tumbled.log().find("NATS link up"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tumble::test

@@ -1,0 +1,127 @@
+#include "nats_server_process.h"
+
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <thread>
+
+namespace tumble::test {
+
+std::uint16_t free_loopback_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return 0;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  address.sin_port = 0;
+  socklen_t length = sizeof(address);
+  std::uint16_t port = 0;
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+    port = ntohs(address.sin_port);
+  }
+  ::close(fd);
+  return port;
+}
+
+std::string nats_server_path() {
+  for (const char* path : {"/usr/sbin/nats-server", "/usr/bin/nats-server", "/usr/local/bin/nats-server"}) {
+    if (::access(path, X_OK) == 0) return path;
+  }
+  return "";
+}
+
+NatsServerProcess::NatsServerProcess(std::string config, std::uint16_t port, std::uint16_t cluster_port,
+                                     std::vector<std::uint16_t> routes)
+    : dir_(make_temp_dir()),
+      config_path_(dir_ + "/nats.conf"),
+      port_(port != 0 ? port : free_loopback_port()),
+      cluster_port_(cluster_port),
+      routes_(std::move(routes)) {
+  std::ofstream(config_path_) << config << "\n";
+}
+
+NatsServerProcess::~NatsServerProcess() { kill(); }
+
+std::string NatsServerProcess::url() const { return "nats://127.0.0.1:" + std::to_string(port_); }
+
+bool NatsServerProcess::start(std::chrono::milliseconds timeout) {
+  kill();
+  // A log of its own for each run: "Server is ready" is then this run's.
+  log_path_ = dir_ + "/nats-" + std::to_string(++runs_) + ".log";
+  std::vector<std::string> argv = {nats_server_path(),    "-c", config_path_, "-a", "127.0.0.1", "-p",
+                                   std::to_string(port_), "-l", log_path_};
+  if (cluster_port_ != 0) {
+    argv.insert(argv.end(),
+                {"--cluster_name", "tumble-test", "--cluster", "nats://127.0.0.1:" + std::to_string(cluster_port_)});
+    std::string routes;
+    for (const std::uint16_t route : routes_) {
+      if (!routes.empty()) routes += ",";
+      routes += "nats-route://127.0.0.1:" + std::to_string(route);
+    }
+    if (!routes.empty()) argv.insert(argv.end(), {"--routes", routes});
+  }
+  process_ = std::make_unique<ChildProcess>(argv, dir_ + "/nats-" + std::to_string(runs_) + ".out");
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline && process_->running()) {
+    if (log().find("Server is ready") != std::string::npos) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return log().find("Server is ready") != std::string::npos && process_->running();
+}
+
+void NatsServerProcess::kill() {
+  if (!process_) return;
+  process_->signal(SIGKILL);
+  process_->wait(std::chrono::seconds(10));
+  process_.reset();
+}
+
+NatsCluster::NatsCluster(const std::string& config) {
+  const std::uint16_t cluster_ports[3] = {free_loopback_port(), free_loopback_port(), free_loopback_port()};
+  for (std::size_t i = 0; i < 3; ++i) {
+    std::vector<std::uint16_t> routes;
+    for (std::size_t j = 0; j < 3; ++j) {
+      if (j != i) routes.push_back(cluster_ports[j]);
+    }
+    nodes_.push_back(std::make_unique<NatsServerProcess>(config, 0, cluster_ports[i], routes));
+  }
+}
+
+bool NatsCluster::start(std::chrono::milliseconds timeout) {
+  for (auto& node : nodes_) {
+    if (!node->start(timeout)) return false;
+  }
+  // A route is up on both ends when each logs it; wait for two a node.
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  const auto routed = [](const std::string& log) {
+    std::size_t count = 0;
+    for (std::size_t at = log.find("Route connection created"); at != std::string::npos;
+         at = log.find("Route connection created", at + 1)) {
+      ++count;
+    }
+    return count >= 2;
+  };
+  for (auto& node : nodes_) {
+    while (!routed(node->log())) {
+      if (std::chrono::steady_clock::now() >= deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  return true;
+}
+
+std::string NatsCluster::urls() const {
+  std::string urls;
+  for (const auto& node : nodes_) {
+    if (!urls.empty()) urls += ",";
+    urls += node->url();
+  }
+  return urls;
+}
+
+}  // namespace tumble::test

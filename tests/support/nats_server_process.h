@@ -1,0 +1,78 @@
+// Real nats-server processes for the tests of tumbled over NATS: one node
+// on a free port of 127.0.0.1, optionally with a configuration file (users
+// and permissions), or three nodes routed into one cluster. A node can be
+// SIGKILLed and started again on the same ports. Readiness is the server's
+// own "Server is ready" log line, waited for with a deadline.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "process.h"
+
+namespace tumble::test {
+
+// A free TCP port of 127.0.0.1 at the time of the call (bound to port 0,
+// read back and released).
+std::uint16_t free_loopback_port();
+
+class NatsServerProcess {
+ public:
+  // Prepares a node on 127.0.0.1:`port` (0: a free port) whose configuration
+  // file holds `config` (may be empty) and that joins the cluster listening
+  // on `cluster_port` with routes to `routes` (0 and empty: no cluster).
+  // Nothing runs before start().
+  explicit NatsServerProcess(std::string config = "", std::uint16_t port = 0, std::uint16_t cluster_port = 0,
+                             std::vector<std::uint16_t> routes = {});
+  ~NatsServerProcess();
+  NatsServerProcess(const NatsServerProcess&) = delete;
+  NatsServerProcess& operator=(const NatsServerProcess&) = delete;
+
+  // Starts the node (again, after kill()) and waits until it is ready;
+  // false when it exited or did not get ready within `timeout`.
+  bool start(std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  // SIGKILL, and waits for the process to end.
+  void kill();
+  bool running() const { return process_ && process_->running(); }
+
+  std::uint16_t port() const { return port_; }
+  std::uint16_t cluster_port() const { return cluster_port_; }
+  // nats://127.0.0.1:PORT
+  std::string url() const;
+  // The log of the current (or last) run.
+  std::string log() const { return read_file(log_path_); }
+  const std::string& dir() const { return dir_; }
+
+ private:
+  std::string dir_;
+  std::string config_path_;
+  std::string log_path_;
+  std::uint16_t port_;
+  std::uint16_t cluster_port_;
+  std::vector<std::uint16_t> routes_;
+  int runs_ = 0;
+  std::unique_ptr<ChildProcess> process_;
+};
+
+// Three nodes routed to one another on 127.0.0.1, each with `config`.
+class NatsCluster {
+ public:
+  explicit NatsCluster(const std::string& config = "");
+  // Starts every node and waits until each is ready and sees both others as
+  // routes; false otherwise.
+  bool start(std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  NatsServerProcess& node(std::size_t i) { return *nodes_[i]; }
+  // The three URLs, comma-separated, node 0 first.
+  std::string urls() const;
+
+ private:
+  std::vector<std::unique_ptr<NatsServerProcess>> nodes_;
+};
+
+// Where nats-server is, or "" when it is not installed.
+std::string nats_server_path();
+
+}  // namespace tumble::test
