@@ -77,7 +77,7 @@ std::string escaped_piece(std::string_view text, std::size_t at, std::size_t* le
   }
   if (c < 0x20 || c == 0x7F) return hex_byte(static_cast<unsigned char>(c));
   if (invisible_control(c)) {
-    char code[12];
+    char code[16];  // "\\u{" + up to 8 hex digits + "}" + NUL
     std::snprintf(code, sizeof code, "\\u{%04x}", static_cast<unsigned>(c));
     return code;
   }
