@@ -1,11 +1,18 @@
 // tumble --nats against real nats-server processes: what it says when NATS
-// cannot be reached or refuses it, one line each and a non-zero exit.
+// cannot be reached or refuses it, one line each and a non-zero exit; and
+// the subcommands through NATS against a real tumbled --nats, with the
+// answers they give over TCP.
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "cli_helpers.h"
 #include "nats_server_process.h"
+#include "poll_until.h"
 #include "process.h"
 #include "tumbled_process.h"
 
@@ -95,6 +102,126 @@ TEST(NatsCli, WorldsWithNoWorldRunningListsNone) {
   const CommandResult json = tumble({"--nats", as_user(nats, "observer", "obs-pass"), "--json", "worlds"});
   EXPECT_EQ(json.exit_code, 0) << json.err;
   EXPECT_EQ(json.out, "");
+}
+
+// A real tumbled serving world "lab" (kFloatingScene: no gravity, the crate
+// of 2 kg at the origin, the ball of 1 kg at z = 50) into a nats-server
+// without users, with a stream of each encoding.
+class NatsCliWorld : public ::testing::Test {
+ protected:
+  using json = nlohmann::json;
+
+  void SetUp() override {
+    ASSERT_TRUE(nats_.start()) << nats_.log();
+    tumbled_ = std::make_unique<TumbledProcess>(
+        kFloatingScene,
+        std::vector<std::string>{"--nats", nats_.url(), "--world", "lab", "--nats-stream", "f30=full@30:all",
+                                 "--nats-stream", "q30=quantized@30", "--nats-stream", "d30=delta@30"});
+    ASSERT_TRUE(tumbled_->started()) << tumbled_->log();
+    // The link is up once a request through NATS is answered.
+    ASSERT_TRUE(poll_until([&] { return over_nats({"stats"}).exit_code == 0; })) << tumbled_->log();
+  }
+
+  CommandResult over_nats(std::vector<std::string> args) const {
+    args.insert(args.begin(), {"--nats", nats_.url(), "--world", "lab"});
+    return tumble(args);
+  }
+
+  json json_over_nats(std::vector<std::string> args) const {
+    args.insert(args.begin(), "--json");
+    const CommandResult result = over_nats(args);
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    return json::parse(result.out, nullptr, false);
+  }
+
+  NatsServerProcess nats_;
+  std::unique_ptr<TumbledProcess> tumbled_;
+};
+
+TEST_F(NatsCliWorld, WorldsFindsTheRunningWorldWithItsStreams) {
+  const CommandResult result = tumble({"--nats", nats_.url(), "--json", "worlds"});
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const std::vector<std::string> lines = lines_of(result.out);
+  ASSERT_EQ(lines.size(), 1u) << result.out;
+  const json world = json::parse(lines[0], nullptr, false);
+  ASSERT_FALSE(world.is_discarded()) << lines[0];
+  EXPECT_EQ(world["world"], "lab");
+  EXPECT_EQ(world["bodies"], 2);
+  EXPECT_EQ(world["rpc_subject"], "tumble.v1.lab.rpc");
+  ASSERT_EQ(world["streams"].size(), 3u);
+  EXPECT_EQ(world["streams"][2]["name"], "d30");
+  EXPECT_EQ(world["streams"][2]["encoding"], "delta");
+  EXPECT_EQ(world["streams"][2]["subject"], "tumble.v1.lab.poses.d30");
+
+  const CommandResult table = tumble({"--nats", nats_.url(), "worlds"});
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("lab"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("d30=delta@30"), std::string::npos) << table.out;
+}
+
+TEST_F(NatsCliWorld, BodiesThroughNatsAreTheBodiesOverTcp) {
+  const json over_nats_list = json_over_nats({"bodies"});
+  const CommandResult tcp = tumbled_->cli({"--json", "bodies"});
+  ASSERT_EQ(tcp.exit_code, 0) << tcp.err;
+  const json over_tcp_list = json::parse(tcp.out, nullptr, false);
+  ASSERT_EQ(over_nats_list["bodies"].size(), 2u) << over_nats_list.dump();
+  // Nothing moves in this world: the two lists differ in their tick only.
+  EXPECT_EQ(over_nats_list["bodies"], over_tcp_list["bodies"]);
+}
+
+TEST_F(NatsCliWorld, AForceThroughNatsIsAppliedAtTheTickItsAckNames) {
+  // 10 N for 24 ticks on 2 kg: v = F n dt / M = 0.5 m/s, exactly, once the ticks are over.
+  const json ack = json_over_nats({"force", "crate", "--force", "10", "0", "0", "--ticks", "24"});
+  ASSERT_TRUE(ack.contains("applied_tick")) << ack.dump();
+  const std::uint64_t done = ack["applied_tick"].get<std::uint64_t>() + 24;
+  json list;
+  ASSERT_TRUE(poll_until([&] {
+    list = json_over_nats({"bodies"});
+    return list.value("tick", std::uint64_t{0}) >= done;
+  }));
+  EXPECT_NEAR(body(list, "crate")["linear_velocity"][0].get<double>(), 0.5, 1e-9);
+  EXPECT_EQ(body(list, "ball")["linear_velocity"], json::array({0.0, 0.0, 0.0})) << "only the crate moved";
+}
+
+TEST_F(NatsCliWorld, SubscribeReadsEachEncodingToThePosesOfTheWorld) {
+  // The crate drifts along x at 1 m/s, so every delta frame carries a change
+  // and a reader that missed or misapplied one shows the crate out of place.
+  ASSERT_EQ(over_nats({"set", "crate", "--velocity", "1", "0", "0"}).exit_code, 0);
+  for (const std::string stream : {"f30", "q30", "d30"}) {
+    const CommandResult result = over_nats({"--json", "subscribe", "--stream", stream, "--count", "4"});
+    ASSERT_EQ(result.exit_code, 0) << stream << ": " << result.err;
+    const std::vector<std::string> lines = lines_of(result.out);
+    ASSERT_EQ(lines.size(), 4u) << stream << ": " << result.out;
+    std::vector<json> frames;
+    for (const std::string& line : lines) {
+      frames.push_back(json::parse(line, nullptr, false));
+      ASSERT_FALSE(frames.back().is_discarded()) << line;
+      ASSERT_EQ(frames.back()["bodies"].size(), 2u) << stream << ": " << line;
+    }
+    for (std::size_t i = 1; i < frames.size(); ++i) {
+      const json& first = frames.front();
+      const json& frame = frames[i];
+      EXPECT_GT(frame["tick"].get<std::uint64_t>(), first["tick"].get<std::uint64_t>()) << stream;
+      // x(t) - x(t0) = v (t - t0), within the quantization grid of two readings.
+      const double moved =
+          body(frame, "crate")["position"][0].get<double>() - body(first, "crate")["position"][0].get<double>();
+      const double elapsed = frame["time"].get<double>() - first["time"].get<double>();
+      EXPECT_NEAR(moved, elapsed, 2e-3) << stream << ": " << lines[i];
+      EXPECT_NEAR(body(frame, "ball")["position"][2].get<double>(), 50.0, 1e-3) << stream << ": " << lines[i];
+    }
+  }
+}
+
+TEST_F(NatsCliWorld, StatsThroughNatsShowTheLink) {
+  const json stats = json_over_nats({"stats"});
+  ASSERT_TRUE(stats.contains("nats")) << stats.dump();
+  EXPECT_EQ(stats["nats"]["world"], "lab");
+  EXPECT_EQ(stats["nats"]["connected"], true);
+  EXPECT_GT(stats["nats"]["messages_out"].get<std::uint64_t>(), 0u);
+  // Over TCP the same link is reported.
+  const CommandResult tcp = tumbled_->cli({"--json", "stats"});
+  ASSERT_EQ(tcp.exit_code, 0) << tcp.err;
+  EXPECT_EQ(json::parse(tcp.out, nullptr, false)["nats"]["connected"], true) << tcp.out;
 }
 
 }  // namespace
