@@ -264,9 +264,10 @@ test("the page draws the bodies, follows a push from the CLI and shows a selecte
   await page.close();
 });
 
-test("dragging a body pushes it", async () => {
-  const page = await openViewer(`#token=${kControllerToken}`);
-  await waitUntilReady(page);
+// Drags the pill, resting and drawn, to the left on the screen and waits
+// until the page shows it moving and the server has it 0.3 m or more from
+// where it rested; returns its id.
+async function dragThePill(page) {
   const rest = await waitUntilAtRest("pill");
   await waitUntilDrawnPast(page, rest.tick);
   const pill = await page.evaluate(() => window.tumbleViewer.bodyId("pill"));
@@ -283,6 +284,13 @@ test("dragging a body pushes it", async () => {
     await new Promise((resolve) => setTimeout(resolve, 200));
   }
   assert.ok(moved >= 0.3, `the dragged pill moved ${moved} m on the server`);
+  return pill;
+}
+
+test("dragging a body pushes it", async () => {
+  const page = await openViewer(`#token=${kControllerToken}`);
+  await waitUntilReady(page);
+  const pill = await dragThePill(page);
   assert.equal(await page.evaluate(() => window.tumbleViewer.selectedId), pill);
   assert.deepEqual(page.errors, []);
   await page.close();
@@ -346,22 +354,7 @@ test("through NATS the page draws the bodies where the pose stream puts them, an
             `crate4 is drawn at ${drawn}, the server has it at ${resting.position}`);
 
   // A drag sends ApplyImpulse over .rpc: the server moves the pill, and the page shows it moving.
-  const rest = await waitUntilAtRest("pill");
-  await waitUntilDrawnPast(page, rest.tick);
-  const pill = await page.evaluate(() => window.tumbleViewer.bodyId("pill"));
-  const from = await screenPosition(page, pill);
-  await page.mouse.move(from.x, from.y);
-  await page.mouse.down();
-  await page.mouse.move(from.x - 60, from.y - 10, { steps: 5 });
-  await page.mouse.move(from.x - 120, from.y - 20, { steps: 5 });
-  await page.mouse.up();
-  await waitUntilMovedOnScreen(page, pill, from, kMovedPx);
-  const deadline = Date.now() + kWaitMs;
-  let moved = 0;
-  while ((moved = distance((await bodyFromCli("pill")).position, rest.position)) < 0.3 && Date.now() < deadline) {
-    await new Promise((resolve) => setTimeout(resolve, 200));
-  }
-  assert.ok(moved >= 0.3, `the dragged pill moved ${moved} m on the server`);
+  await dragThePill(page);
   assert.equal(await page.locator("#inspector .inspector-note").count(), 0);
   assert.deepEqual(page.errors, []);
   await page.close();
