@@ -48,7 +48,6 @@ sim::Status NatsLink::start() {
   natsOptions_SetReconnectBufSize(options_, config_.reconnect_buffer_bytes);
   natsOptions_SetPingInterval(options_, 2000);  // a dead server is noticed within a few seconds
   natsOptions_SetMaxPingsOut(options_, 2);
-  natsOptions_SetRetryOnFailedConnect(options_, true, &NatsLink::on_connected, this);
   natsOptions_SetDisconnectedCB(options_, &NatsLink::on_disconnected, this);
   natsOptions_SetReconnectedCB(options_, &NatsLink::on_reconnected, this);
   natsOptions_SetClosedCB(options_, &NatsLink::on_closed, this);
@@ -60,6 +59,22 @@ sim::Status NatsLink::start() {
     status = natsOptions_SetUserCredentialsFromFiles(options_, config_.creds_file.c_str(), nullptr);
     if (status != NATS_OK) return failed("--nats-creds " + config_.creds_file, status);
   }
+  // One attempt first, so that a server that answers but refuses the
+  // credentials is an error at start rather than a link retried forever.
+  natsOptions_SetRetryOnFailedConnect(options_, false, nullptr, nullptr);
+  status = natsConnection_Connect(&connection_, options_);
+  if (status == NATS_OK) {
+    on_connected(connection_, this);
+    return {};
+  }
+  connection_ = nullptr;
+  if (status == NATS_CONNECTION_AUTH_FAILED || status == NATS_NOT_PERMITTED) {
+    return sim::Status::error(std::string(config_.creds_file.empty() ? "--nats" : "--nats-creds") +
+                              ": the NATS server refused the user, password, token or credentials (" +
+                              natsStatus_GetText(status) + ")");
+  }
+  if (status != NATS_NO_SERVER && status != NATS_TIMEOUT && status != NATS_IO_ERROR) return failed("--nats", status);
+  natsOptions_SetRetryOnFailedConnect(options_, true, &NatsLink::on_connected, this);
   status = natsConnection_Connect(&connection_, options_);
   if (status == NATS_OK) {
     on_connected(connection_, this);

@@ -4,8 +4,8 @@
 // its own, with backoff and without a limit on attempts, to any server of
 // the list or of the cluster. A server that is not reachable at start is
 // not an error: the link is down, is logged as such, and comes up when the
-// server does. While it is down, what is published is not buffered beyond
-// a bound (the reconnect buffer): the caller counts what it does not send.
+// server does. A server that answers and refuses the credentials is one. While it is down, what is published is not
+// buffered beyond a bound (the reconnect buffer): the caller counts what it does not send.
 //
 // Counters (messages and bytes out, reconnects, requests answered, frames
 // dropped) are atomics read by GetStats on the sim thread.
@@ -55,9 +55,10 @@ class NatsLink {
   NatsLink(const NatsLink&) = delete;
   NatsLink& operator=(const NatsLink&) = delete;
 
-  // Starts connecting. Fails only when the options cannot be used (a creds
-  // file nats.c refuses, a URL it cannot parse); an unreachable server is
-  // retried in the background.
+  // Starts connecting. Fails when the options cannot be used (a creds file
+  // nats.c refuses, a URL it cannot parse) or the first server reached
+  // refuses the credentials; an unreachable server is retried in the
+  // background.
   sim::Status start();
 
   // Subscribes `subject` (in `queue_group` when not empty); `handler` runs
