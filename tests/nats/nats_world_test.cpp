@@ -3,12 +3,17 @@
 // arrives over NATS (and TCP), on ticks and sequences, never on wall time.
 #include <gtest/gtest.h>
 
+#include <csignal>
+#include <fstream>
 #include <map>
+#include <optional>
 
 #include "cli_helpers.h"
+#include "nats_messages.h"
 #include "nats_server_process.h"
 #include "nats_test_client.h"
 #include "poll_until.h"
+#include "process.h"
 #include "tumble/v1/protocol.pb.h"
 #include "tumble/v1/world_info.pb.h"
 #include "tumbled_process.h"
@@ -20,28 +25,7 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-ServerMessage parse(const std::string& bytes) {
-  ServerMessage message;
-  EXPECT_TRUE(message.ParseFromString(bytes));
-  return message;
-}
-
-std::string force_on(const std::string& body, double fx, std::uint64_t request_id) {
-  ClientMessage message;
-  message.set_request_id(request_id);
-  auto& force = *message.mutable_apply_force();
-  force.mutable_body()->set_name(body);
-  force.mutable_force()->set_x(fx);
-  force.set_ticks(1);
-  return message.SerializeAsString();
-}
-
-std::string stats_request(std::uint64_t request_id) {
-  ClientMessage message;
-  message.set_request_id(request_id);
-  message.mutable_get_stats();
-  return message.SerializeAsString();
-}
+constexpr auto parse = parse_server_message;
 
 class NatsWorld : public ::testing::Test {
  protected:
@@ -95,7 +79,7 @@ TEST_F(NatsWorld, AForceOverRpcIsAckedAndMovesTheBodyInTheNextFullFrame) {
   ASSERT_TRUE(wait_connected(client));
   auto frames = client.subscribe("tumble.v1.lab.poses.f");
   ASSERT_TRUE(frames);
-  auto reply = client.request("tumble.v1.lab.rpc", force_on("crate", 240, 7));
+  auto reply = client.request("tumble.v1.lab.rpc", force_request("crate", 240, 7));
   ASSERT_TRUE(reply) << client.error();
   const ServerMessage ack = parse(*reply);
   ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
@@ -267,6 +251,85 @@ TEST(NatsWorldStart, TumbledStartedWhileNatsIsDownServesTcpAndConnectsLater) {
     return reply && parse(*reply).stats().nats().connected();
   })) << tumbled.log();
   EXPECT_NE(tumbled.log().find("NATS link up"), std::string::npos);
+}
+
+TEST(NatsWorldStart, CredentialsTheServerRefusesEndTumbledAtStartInOneLineNamingTheFlag) {
+  NatsServerProcess nats("authorization { users = [ { user: tumbled, password: right-pass } ] }");
+  ASSERT_TRUE(nats.start()) << nats.log();
+  const std::string scene = make_temp_dir() + "/scene.json";
+  std::ofstream(scene) << kFloatingScene;
+  const std::string url = "nats://tumbled:wrong-pass@127.0.0.1:" + std::to_string(nats.port());
+  const CommandResult result =
+      run_command({tumbled_path(), "--scene", scene, "--listen", "127.0.0.1:0", "--nats", url, "--world", "lab"});
+  EXPECT_EQ(result.exit_code, 1) << result.out << result.err;
+  const std::string said = result.out + result.err;
+  EXPECT_NE(said.find("--nats: the NATS server refused the user, password, token or credentials"), std::string::npos)
+      << said;
+  EXPECT_EQ(said.find("wrong-pass"), std::string::npos) << "the password is not shown: " << said;
+}
+
+TEST(NatsWorldStart, WithListenNoneTheWorldIsServedOverNatsAlone) {
+  NatsServerProcess nats;
+  ASSERT_TRUE(nats.start()) << nats.log();
+  const std::string dir = make_temp_dir();
+  std::ofstream(dir + "/scene.json") << kFloatingScene;
+  ChildProcess tumbled(
+      {tumbled_path(), "--scene", dir + "/scene.json", "--listen", "none", "--nats", nats.url(), "--world", "solo"},
+      dir + "/tumbled.log");
+  NatsTestClient client(nats.url());
+  ASSERT_TRUE(client.connected()) << client.error();
+  std::optional<std::string> reply;
+  ASSERT_TRUE(poll_until([&] {
+    reply = client.request("tumble.v1.solo.rpc", stats_request(2), std::chrono::milliseconds(500));
+    return reply.has_value();
+  })) << read_file(dir + "/tumbled.log");
+  EXPECT_TRUE(parse(*reply).stats().nats().connected());
+  const std::string log = read_file(dir + "/tumbled.log");
+  EXPECT_EQ(log.find("listening on"), std::string::npos) << "no TCP or HTTP listener: " << log;
+  // SIGTERM ends it cleanly, as with listeners.
+  tumbled.signal(SIGTERM);
+  EXPECT_EQ(tumbled.wait(std::chrono::seconds(20)), 0) << read_file(dir + "/tumbled.log");
+}
+
+// 60 spheres: a FULL frame with velocities is about 3.5 kB, a QUANTIZED one
+// under 1 kB.
+std::string sixty_spheres() {
+  std::string scene = R"({"gravity": [0, 0, 0], "bodies": [)";
+  for (int i = 0; i < 60; ++i) {
+    if (i > 0) scene += ", ";
+    scene += R"({"shape": {"sphere": {"radius": 0.25}}, "mass": 1, "position": [)" + std::to_string(i) +
+             R"(, 0, 0], "linear_velocity": [0, 1, 0]})";
+  }
+  return scene + "]}";
+}
+
+TEST(NatsWorldPayload, AFrameOverTheServersMaxPayloadIsNotPublishedAndTheOtherStreamsGoOn) {
+  NatsServerProcess nats("max_payload: 2048");
+  ASSERT_TRUE(nats.start()) << nats.log();
+  TumbledProcess tumbled(sixty_spheres(), {"--nats", nats.url(), "--world", "lab", "--nats-stream", "big=full@30:all",
+                                           "--nats-stream", "small=quantized@30"});
+  ASSERT_TRUE(tumbled.started()) << tumbled.log();
+  NatsTestClient client(nats.url());
+  auto big = client.subscribe("tumble.v1.lab.poses.big");
+  auto small = client.subscribe("tumble.v1.lab.poses.small");
+  ASSERT_TRUE(big && small);
+  ASSERT_TRUE(small->wait_count(10)) << tumbled.log();
+  // The small stream's frames are consecutive: the refused ones cost it nothing.
+  const std::vector<NatsMessage> frames = small->messages();
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    EXPECT_EQ(parse(frames[i].data).pose_frame().sequence(), parse(frames[i - 1].data).pose_frame().sequence() + 1);
+  }
+  const auto poses = wire::decode_quantized_poses(parse(frames.back().data).pose_frame().packed());
+  ASSERT_TRUE(poses);
+  EXPECT_EQ(poses->bodies.size(), 60u);
+  EXPECT_TRUE(big->messages().empty()) << "no frame over 2048 bytes reaches NATS";
+  const ServerMessage stats = parse(*client.request("tumble.v1.lab.rpc", stats_request(4)));
+  EXPECT_GT(stats.stats().nats().frames_dropped(), 0u);
+  EXPECT_TRUE(poll_until([&] {
+    return tumbled.log().find("over the server's max payload of 2048") != std::string::npos;
+  })) << tumbled.log();
+  // TCP is served as ever.
+  EXPECT_EQ(tumbled.cli({"bodies"}).exit_code, 0);
 }
 
 }  // namespace
