@@ -17,9 +17,9 @@
 #                     build-asan/; every test but docker, bench, the slow
 #                     one and the pure JavaScript ones (label js).
 #   SANITIZE=thread   ThreadSanitizer, in build-tsan/; only the programs
-#                     that start threads (labels net, sim, client, e2e and
-#                     physics-threads; target threaded_tests), without the
-#                     slow one.
+#                     that start threads (labels net, sim, client, e2e,
+#                     nats and physics-threads; target threaded_tests),
+#                     without the slow ones and the browser's.
 # A sanitizer's report, or a failed assertion, fails the test it comes from.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -55,7 +55,7 @@ case "${SANITIZE:-}" in
     build_dir=${BUILD_DIR:-build-tsan}
     BUILD_DIR=$build_dir BUILD_TYPE=Debug TARGETS=threaded_tests \
       ./scripts/build.sh "${sanitizer_args[@]}" -DTUMBLE_SANITIZE=thread
-    ctest_args+=(-L '^(net|sim|client|e2e|physics-threads)$' -LE slow)
+    ctest_args+=(-L '^(net|sim|client|e2e|nats|physics-threads)$' -LE 'slow|viewer')
     ;;
   *)
     echo "test.sh: SANITIZE is address or thread, not '$SANITIZE'" >&2
