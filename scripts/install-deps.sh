@@ -36,6 +36,7 @@ packages=(
   libbullet-dev libode-dev
   python3-protobuf
   nats-server libnats-dev
+  openssl  # the TLS tests make their own certificate authority
   "${optional[@]}"
   "$@"
 )

@@ -7,8 +7,15 @@ namespace {
 
 constexpr std::int64_t kDefaultMaxPayload = std::int64_t{1} << 20;
 
+// `what`: the status, and nats.c's own detail of this thread's last error
+// when it says more (e.g. which certificate check failed).
 sim::Status failed(const std::string& what, natsStatus status) {
-  return sim::Status::error(what + ": " + natsStatus_GetText(status));
+  std::string text = natsStatus_GetText(status);
+  std::string detail = nats_GetLastError(nullptr) != nullptr ? nats_GetLastError(nullptr) : "";
+  // nats.c starts it with its source position, "(conn.c:733): ".
+  if (detail.rfind('(', 0) == 0 && detail.find("): ") != std::string::npos) detail.erase(0, detail.find("): ") + 3);
+  if (!detail.empty() && detail != text) text += " (" + detail + ")";
+  return sim::Status::error(what + ": " + text);
 }
 
 }  // namespace

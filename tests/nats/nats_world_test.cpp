@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -330,6 +331,58 @@ TEST(NatsWorldPayload, AFrameOverTheServersMaxPayloadIsNotPublishedAndTheOtherSt
   })) << tumbled.log();
   // TCP is served as ever.
   EXPECT_EQ(tumbled.cli({"bodies"}).exit_code, 0);
+}
+
+// A certificate authority and a certificate for 127.0.0.1 it signed, made
+// with /usr/bin/openssl (Debian's openssl package) in `dir`: ca.pem, server.pem, server.key. False on failure.
+bool make_certificates(const std::string& dir) {
+  const std::vector<std::vector<std::string>> steps = {
+      {"/usr/bin/openssl", "req", "-x509", "-newkey", "rsa:2048", "-nodes", "-keyout", dir + "/ca.key", "-out",
+       dir + "/ca.pem", "-days", "2", "-subj", "/CN=tumble test CA"},
+      {"/usr/bin/openssl", "req", "-newkey", "rsa:2048", "-nodes", "-keyout", dir + "/server.key", "-out",
+       dir + "/server.csr", "-subj", "/CN=127.0.0.1"},
+      {"/usr/bin/openssl", "x509", "-req", "-in", dir + "/server.csr", "-CA", dir + "/ca.pem", "-CAkey",
+       dir + "/ca.key", "-CAcreateserial", "-out", dir + "/server.pem", "-days", "2", "-extfile", dir + "/san.ext"}};
+  std::ofstream(dir + "/san.ext") << "subjectAltName=IP:127.0.0.1\n";
+  for (const auto& step : steps) {
+    const CommandResult result = run_command(step);
+    if (result.exit_code != 0) {
+      ADD_FAILURE() << step[0] << " " << step[1] << ": " << result.err;
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(NatsWorldTls, OverTlsTumbledServesWhenItTrustsTheServerAndSaysWhyNotWhenItDoesNot) {
+  const std::string dir = make_temp_dir();
+  ASSERT_TRUE(make_certificates(dir));
+  NatsServerProcess nats("tls { cert_file: \"" + dir + "/server.pem\", key_file: \"" + dir + "/server.key\" }");
+  ASSERT_TRUE(nats.start()) << nats.log();
+  const std::string url = "tls://127.0.0.1:" + std::to_string(nats.port());
+  std::ofstream(dir + "/scene.json") << kFloatingScene;
+
+  // Not trusting the test CA: one line naming the flag and the check that failed.
+  const CommandResult untrusted = run_command(
+      {tumbled_path(), "--scene", dir + "/scene.json", "--listen", "127.0.0.1:0", "--nats", url, "--world", "lab"});
+  EXPECT_EQ(untrusted.exit_code, 1);
+  EXPECT_NE((untrusted.out + untrusted.err).find("--nats: SSL Error (SSL handshake error"), std::string::npos)
+      << untrusted.out << untrusted.err;
+
+  // Trusting it (OpenSSL's SSL_CERT_FILE, which children inherit): served, and the CLI reads it too.
+  ASSERT_EQ(setenv("SSL_CERT_FILE", (dir + "/ca.pem").c_str(), 1), 0);
+  TumbledProcess tumbled(kFloatingScene, {"--nats", url, "--world", "lab"});
+  ASSERT_TRUE(tumbled.started()) << tumbled.log();
+  CommandResult worlds;
+  EXPECT_TRUE(poll_until([&] {
+    worlds = run_command({tumble_cli_path(), "--nats", url, "--json", "worlds"});
+    return worlds.exit_code == 0 && worlds.out.find("\"lab\"") != std::string::npos;
+  })) << worlds.out
+      << worlds.err << tumbled.log();
+  const CommandResult bodies = run_command({tumble_cli_path(), "--nats", url, "--world", "lab", "bodies"});
+  EXPECT_EQ(bodies.exit_code, 0) << bodies.err;
+  EXPECT_NE(bodies.out.find("crate"), std::string::npos) << bodies.out;
+  unsetenv("SSL_CERT_FILE");
 }
 
 }  // namespace
