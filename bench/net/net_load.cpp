@@ -12,10 +12,6 @@
 // clients elsewhere would not. It prints one line of key=value fields
 // (bench/README.md), and exits 3 when any request or stream failed.
 #include <poll.h>
-#include <pthread.h>
-#include <sched.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -36,8 +32,10 @@
 #include "latency_probe.h"
 #include "load_connection.h"
 #include "load_world.h"
+#include "measured_window.h"
 #include "process_cpu.h"
 #include "stall_watch.h"
+#include "thread_priority.h"
 #include "tumble_client/pose_stream.h"
 
 namespace {
@@ -66,32 +64,7 @@ struct Options {
   bool stall_watch = false;  // watch for stalls of the machine (stall_watch.h)
 };
 
-// Gives the calling thread this nice value (Linux: per thread), and with
-// idle the SCHED_IDLE policy: it then runs only on a core nothing else
-// wants. Best effort.
-void set_thread_priority(int nice, bool idle) {
-  if (nice != 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice) != 0) {
-    std::perror("net_load: setpriority");
-  }
-  if (!idle) return;
-  sched_param param{};
-  param.sched_priority = 0;
-  if (const int failed = pthread_setschedparam(pthread_self(), SCHED_IDLE, &param); failed != 0) {
-    std::fprintf(stderr, "net_load: SCHED_IDLE: error %d\n", failed);
-  }
-}
-
-// The measured window, set once every subscriber is in; a subscriber counts
-// the frames that arrive inside it and stops at its end.
-struct Window {
-  std::atomic<Clock::rep> start{std::numeric_limits<Clock::rep>::max()};
-  std::atomic<Clock::rep> end{std::numeric_limits<Clock::rep>::max()};
-  bool contains(Clock::time_point t) const {
-    const Clock::rep at = t.time_since_epoch().count();
-    return at >= start.load() && at < end.load();
-  }
-  bool over(Clock::time_point t) const { return t.time_since_epoch().count() >= end.load(); }
-};
+using Window = tumble::bench::MeasuredWindow;
 
 // What one subscriber counted inside the window.
 struct Tally {
@@ -170,7 +143,7 @@ void take_message(Subscriber& subscriber, const tumble::v1::ServerMessage& messa
 void run_subscribers(const Options& options, const std::vector<unsigned>& indices,
                      const std::vector<std::uint32_t>& bodies, std::atomic<unsigned>& ready, const Window& window,
                      std::vector<Tally>& tallies) {
-  set_thread_priority(options.subscriber_nice, options.subscriber_idle);
+  tumble::bench::set_thread_priority(options.subscriber_nice, options.subscriber_idle, "net_load");
   std::vector<Subscriber> subscribers;
   subscribers.reserve(indices.size());
   for (const unsigned index : indices) {
@@ -350,8 +323,7 @@ int main(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const Clock::time_point end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
-  window.start = start.time_since_epoch().count();
-  window.end = end.time_since_epoch().count();
+  window.set(start, end);
 
   tumble::bench::LatencyResult latency;
   threads.emplace_back([&] {
