@@ -62,6 +62,7 @@ struct Options {
   bool subscriber_idle = false;
   std::string latency_log;   // a CSV of every latency sample; none when empty
   bool stall_watch = false;  // watch for stalls of the machine (stall_watch.h)
+  double probe_rate_hz = 0;  // the latency watcher's stream; 0: the tick rate
 };
 
 using Window = tumble::bench::MeasuredWindow;
@@ -267,6 +268,10 @@ int main(int argc, char** argv) {
   app.add_flag("--stall-watch", options.stall_watch,
                "Watch every CPU for stalls of the machine itself (a SCHED_FIFO thread a CPU waking every 1 ms; "
                "needs root or RLIMIT_RTPRIO 90) and report them and the latency samples they touch");
+  app.add_option("--probe-rate", options.probe_rate_hz,
+                 "Rate of the latency watcher's stream of the probe, Hz (default: the tick rate, a frame every "
+                 "tick; the subscribers' rate puts the probe's frames on their ticks, as over NATS)")
+      ->check(CLI::Range(0.1, 10000.0));
   CLI11_PARSE(app, argc, argv);
 
   if (options.stall_watch) {
@@ -327,7 +332,8 @@ int main(int argc, char** argv) {
 
   tumble::bench::LatencyResult latency;
   threads.emplace_back([&] {
-    latency = tumble::bench::measure_latency(options.target, world.probe, before.tick_rate_hz(),
+    const double probe_rate_hz = options.probe_rate_hz > 0 ? options.probe_rate_hz : before.tick_rate_hz();
+    latency = tumble::bench::measure_latency(options.target, world.probe, probe_rate_hz,
                                              encoding_of(options.encoding, 0), start, end);
   });
   std::vector<tumble::bench::Stall> stalls;
