@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,7 +15,7 @@
 
 namespace tumble::bench {
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path, int nice) {
   // Everything the child needs is made before fork(): after it, in a
   // process that may have threads, only async-signal-safe calls.
   std::vector<char*> args;
@@ -27,6 +28,7 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
     // Ended with the benchmark, also when it exits without stopping it.
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (::getppid() != parent) ::_exit(127);
+    if (nice != 0 && ::setpriority(PRIO_PROCESS, 0, nice) != 0) ::_exit(127);
     const int in = ::open("/dev/null", O_RDONLY);
     const int out = ::open(log, O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (in < 0 || out < 0) ::_exit(127);

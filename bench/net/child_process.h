@@ -15,9 +15,10 @@ namespace tumble::bench {
 
 class ChildProcess {
  public:
-  // Starts argv[0] (a path) with `argv`, its output appended to `log_path`.
-  // Check started(); a program that cannot be run exits at once with 127.
-  ChildProcess(const std::vector<std::string>& argv, const std::string& log_path);
+  // Starts argv[0] (a path) with `argv` at nice value `nice`, its output
+  // appended to `log_path`. Check started(); a program that cannot be run
+  // exits at once with 127.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& log_path, int nice = 0);
   ~ChildProcess();
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

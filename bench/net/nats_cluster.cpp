@@ -37,8 +37,8 @@ std::uint16_t free_loopback_port() {
   return port;
 }
 
-NatsCluster::NatsCluster(std::string nats_server_path, std::string dir)
-    : path_(std::move(nats_server_path)), dir_(std::move(dir)) {
+NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, int nice)
+    : path_(std::move(nats_server_path)), dir_(std::move(dir)), nice_(nice) {
   for (std::size_t i = 0; i < kNodes; ++i) {
     client_ports_[i] = free_loopback_port();
     cluster_ports_[i] = free_loopback_port();
@@ -63,8 +63,8 @@ NatsCluster::NatsCluster(std::string nats_server_path, std::string dir)
 
 std::string NatsCluster::start(std::chrono::seconds timeout) {
   for (std::size_t i = 0; i < kNodes; ++i) {
-    nodes_[i] = std::make_unique<ChildProcess>(std::vector<std::string>{path_, "-c", config_path(dir_, i)},
-                                               log_path(dir_, i));
+    nodes_[i] =
+        std::make_unique<ChildProcess>(std::vector<std::string>{path_, "-c", config_path(dir_, i)}, log_path(dir_, i));
     if (!nodes_[i]->started()) return "cannot start " + path_;
   }
   // Ready, and a route to each of the two others (logged once per route).

@@ -27,7 +27,8 @@ class NatsCluster {
   static constexpr std::size_t kNodes = 3;
 
   // Writes the nodes' configuration files under `dir`; nothing runs yet.
-  NatsCluster(std::string nats_server_path, std::string dir);
+  // The nodes will run at nice value `nice`.
+  NatsCluster(std::string nats_server_path, std::string dir, int nice = 0);
 
   // Starts the three nodes and waits until each is ready and routed to both
   // others. Empty on success, else why not (with the failing node's log).
@@ -42,6 +43,7 @@ class NatsCluster {
  private:
   std::string path_;
   std::string dir_;
+  int nice_;
   std::array<std::uint16_t, kNodes> client_ports_{};
   std::array<std::uint16_t, kNodes> cluster_ports_{};
   std::array<std::unique_ptr<ChildProcess>, kNodes> nodes_;

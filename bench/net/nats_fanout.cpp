@@ -14,8 +14,6 @@
 namespace tumble::bench {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
 std::size_t digits(std::uint64_t n) {
   std::size_t count = 1;
   for (; n >= 10; n /= 10) ++count;
@@ -39,7 +37,8 @@ struct Completions {
 // One subscription's reader: what it holds of the stream and what it
 // counted. Its callbacks run one at a time, on one delivery thread.
 struct Reader {
-  const MeasuredWindow* window = nullptr;
+  const MeasuredTicks* ticks = nullptr;
+  const MeasuredWindow* wall = nullptr;
   std::atomic<unsigned>* ready = nullptr;
   Completions* completions = nullptr;
   natsSubscription* subscription = nullptr;
@@ -55,22 +54,23 @@ struct Reader {
 // A frame for one subscription.
 void on_message(natsConnection*, natsSubscription*, natsMsg* msg, void* closure) {
   Reader& reader = *static_cast<Reader*>(closure);
-  const Clock::time_point arrived = Clock::now();
-  const bool counted = reader.window->contains(arrived);
   const int length = natsMsg_GetDataLength(msg);
   const bool parsed = reader.message.ParseFromArray(natsMsg_GetData(msg), length) && reader.message.has_pose_frame();
   natsMsg_Destroy(msg);
   StreamTally& tally = reader.tally;
   if (!parsed) {
-    if (counted) ++tally.errors;
+    ++tally.errors;
     return;
   }
   const tumble::v1::PoseFrame& frame = reader.message.pose_frame();
   const std::uint64_t sequence = frame.sequence();
+  const bool counted = reader.ticks->contains(frame.tick());
+  if (reader.wall->contains(std::chrono::steady_clock::now())) ++tally.handled_in_window;
   if (counted) {
     ++tally.frames;
     tally.bytes += static_cast<std::uint64_t>(length);
-    tally.wire_bytes += static_cast<std::uint64_t>(length) + reader.wire_overhead + digits(static_cast<std::uint64_t>(length));
+    tally.wire_bytes +=
+        static_cast<std::uint64_t>(length) + reader.wire_overhead + digits(static_cast<std::uint64_t>(length));
     if (reader.last_sequence != 0 && sequence != reader.last_sequence + 1) {
       ++tally.gaps;
       if (sequence > reader.last_sequence) tally.missed += sequence - reader.last_sequence - 1;
@@ -80,7 +80,7 @@ void on_message(natsConnection*, natsSubscription*, natsMsg* msg, void* closure)
   if (!reader.gate.published(frame).show) return;
   auto applied = reader.stream.apply(frame);
   if (!applied) {
-    if (counted) ++tally.errors;
+    ++tally.errors;
     return;
   }
   if (!reader.shown_whole) {
@@ -127,7 +127,7 @@ struct NatsFanout::State {
   bool closed = false;
 };
 
-NatsFanout::NatsFanout(const NatsFanoutOptions& options, const MeasuredWindow& window)
+NatsFanout::NatsFanout(const NatsFanoutOptions& options, const MeasuredTicks& ticks, const MeasuredWindow& wall)
     : state_(std::make_unique<State>()) {
   State& state = *state_;
   const unsigned connections = std::max(1u, std::min(options.connections, options.subscriptions));
@@ -160,7 +160,8 @@ NatsFanout::NatsFanout(const NatsFanoutOptions& options, const MeasuredWindow& w
   }
   for (unsigned i = 0; i < options.subscriptions && state.error.empty(); ++i) {
     auto reader = std::make_unique<Reader>();
-    reader->window = &window;
+    reader->ticks = &ticks;
+    reader->wall = &wall;
     reader->ready = &state.ready;
     reader->completions = &state.completions;
     natsConnection* connection = state.connections[i % state.connections.size()];

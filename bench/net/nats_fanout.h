@@ -11,7 +11,8 @@
 // delivery); each subscription's messages are handled in order by one of
 // them.
 //
-// Each subscription parses every message as a ServerMessage, checks that
+// Each subscription parses every message as a ServerMessage, counts the
+// frames of the measured ticks (MeasuredTicks) whenever they arrive, checks that
 // the frames' sequence numbers follow each other (counting the gaps and the
 // frames they skipped), passes them through a SequenceGate and applies
 // those it lets through to a PoseStream without converting the values to
@@ -42,12 +43,14 @@ struct NatsFanoutOptions {
   unsigned connections = 1;            // C, at most S
   unsigned delivery_threads = 4;       // T
   // nats.c's limit on the messages one subscription has waiting; past it
-  // nats.c drops them (a slow consumer on the client's side).
-  int pending_messages = 256;
+  // nats.c drops the ones that come (a slow consumer on the client's side).
+  // 64 frames: about a second of a 60 Hz stream, so that a reader that
+  // cannot keep up loses frames rather than reading ever older ones.
+  int pending_messages = 64;
   int pending_bytes = 8 << 20;
 };
 
-// What one subscription counted of the frames that arrived inside the window.
+// What one subscription counted of the frames of the measured ticks.
 struct StreamTally {
   std::uint64_t frames = 0;      // received
   std::uint64_t bytes = 0;       // their payloads (ServerMessage bytes)
@@ -57,6 +60,9 @@ struct StreamTally {
   std::uint64_t gaps = 0;        // frames whose sequence did not follow the previous one's
   std::uint64_t missed = 0;      // sequence numbers those gaps skipped
   std::uint64_t errors = 0;      // a message that did not parse, or a frame that did not apply
+  // Frames of any tick handled inside the wall-clock window: what the
+  // reader got through in that time, late ones included.
+  std::uint64_t handled_in_window = 0;
 };
 
 // What nats.c reported over the run, every connection together.
@@ -71,7 +77,9 @@ class NatsFanout {
  public:
   // Connects and subscribes. Check error(): empty when every connection and
   // subscription is up.
-  NatsFanout(const NatsFanoutOptions& options, const MeasuredWindow& window);
+  // `ticks` says which frames count, `wall` when a handled frame counts
+  // as handled_in_window; both outlive it.
+  NatsFanout(const NatsFanoutOptions& options, const MeasuredTicks& ticks, const MeasuredWindow& wall);
   // Closes whatever close() has not.
   ~NatsFanout();
   NatsFanout(const NatsFanout&) = delete;

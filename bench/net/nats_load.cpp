@@ -4,7 +4,8 @@
 // of net_load's worlds into it (load_world.h, over tumbled's TCP port),
 // and reads the stream with S subscriptions spread over the three nodes
 // (nats_fanout.h), at nice 10 like net_load's subscribers. Over D seconds
-// it measures the readers' frames (received against published, sequence
+// of ticks it measures the readers' frames (those of the measured ticks
+// received up to 2 s after the last, against those published; sequence
 // gaps), bytes per subscriber, the force-to-visible latency of a change
 // sent as a request on the world's .rpc subject and seen in the same
 // stream (latency_probe.h, on node 1), tumbled's tick (GetStats over .rpc)
@@ -46,11 +47,13 @@ using Clock = std::chrono::steady_clock;
 
 constexpr const char* kWorld = "bench";
 constexpr const char* kStream = "load";
+// How long after the measured ticks their last frames may still arrive and count.
+constexpr std::chrono::seconds kGrace{2};
 
 struct Options {
-  std::string tumbled;                             // path of the tumbled binary
+  std::string tumbled;                                // path of the tumbled binary
   std::string nats_server = "/usr/sbin/nats-server";  // path of nats-server
-  std::vector<std::string> tumbled_args;           // more arguments for tumbled
+  std::vector<std::string> tumbled_args;              // more arguments for tumbled
   std::string world = "field";
   unsigned bodies = 10000;
   double moving = 0.1;
@@ -66,6 +69,8 @@ struct Options {
   unsigned spawners = 16;
   int subscriber_nice = 10;
   bool subscriber_idle = false;
+  int pending_frames = 64;
+  int nats_server_nice = 0;
 };
 
 [[noreturn]] void fail(const std::string& why) {
@@ -150,7 +155,9 @@ int main(int argc, char** argv) {
   app.add_option("--world", options.world, "field or cubes (net_load's worlds; bench/README.md)")
       ->capture_default_str()
       ->check(CLI::IsMember({"field", "cubes"}));
-  app.add_option("--bodies", options.bodies, "B: bodies to spawn")->capture_default_str()->check(CLI::Range(1u, 1000000u));
+  app.add_option("--bodies", options.bodies, "B: bodies to spawn")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000000u));
   app.add_option("--moving", options.moving, "field: the fraction of the bodies that spin")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
@@ -171,7 +178,8 @@ int main(int argc, char** argv) {
   app.add_option("--encoding", options.encoding, "The stream's encoding: full, quantized or delta")
       ->capture_default_str()
       ->check(CLI::IsMember({"full", "quantized", "delta"}));
-  app.add_option("--key-interval", options.key_interval_s, "tumbled --nats-key-interval: sim seconds between key frames")
+  app.add_option("--key-interval", options.key_interval_s,
+                 "tumbled --nats-key-interval: sim seconds between key frames")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 3600.0));
   app.add_option("--seconds", options.seconds, "D: measured seconds")
@@ -185,28 +193,37 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(0, 19));
   app.add_flag("--subscriber-idle", options.subscriber_idle, "Run the subscriptions' nats.c threads under SCHED_IDLE");
+  app.add_option("--pending-frames", options.pending_frames,
+                 "Frames one subscription may have waiting in nats.c; past it nats.c drops what comes")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
+  app.add_option("--nats-server-nice", options.nats_server_nice,
+                 "Nice value of the three nats-server processes (standing for servers on other machines)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 19));
   CLI11_PARSE(app, argc, argv);
 
   const std::string dir = tumble::bench::make_temp_dir("nats_load");
   if (dir.empty()) fail("cannot make a temporary directory");
 
-  tumble::bench::NatsCluster cluster(options.nats_server, dir);
+  tumble::bench::NatsCluster cluster(options.nats_server, dir, options.nats_server_nice);
   if (const std::string why = cluster.start(std::chrono::seconds(30)); !why.empty()) fail(why);
 
   const std::string tumbled_log = dir + "/tumbled.log";
-  std::vector<std::string> tumbled_argv = {options.tumbled,
-                                           "--listen",
-                                           "127.0.0.1:0",
-                                           "--port-file",
-                                           dir + "/port",
-                                           "--nats",
-                                           cluster.urls(),
-                                           "--world",
-                                           kWorld,
-                                           "--nats-stream",
-                                           std::string(kStream) + "=" + options.encoding + "@" + number_text(options.rate_hz),
-                                           "--nats-key-interval",
-                                           number_text(options.key_interval_s)};
+  std::vector<std::string> tumbled_argv = {
+      options.tumbled,
+      "--listen",
+      "127.0.0.1:0",
+      "--port-file",
+      dir + "/port",
+      "--nats",
+      cluster.urls(),
+      "--world",
+      kWorld,
+      "--nats-stream",
+      std::string(kStream) + "=" + options.encoding + "@" + number_text(options.rate_hz),
+      "--nats-key-interval",
+      number_text(options.key_interval_s)};
   tumbled_argv.insert(tumbled_argv.end(), options.tumbled_args.begin(), options.tumbled_args.end());
   tumble::bench::ChildProcess tumbled(tumbled_argv, tumbled_log);
   if (!tumbled.started()) fail("cannot start " + options.tumbled);
@@ -228,17 +245,20 @@ int main(int argc, char** argv) {
 
   // The subscriptions' nats.c threads are made on a thread of lower
   // priority, and inherit it.
-  tumble::bench::MeasuredWindow window;
+  tumble::bench::MeasuredTicks window;
+  tumble::bench::MeasuredWindow wall_window;
   tumble::bench::NatsFanoutOptions fanout_options;
-  for (std::size_t i = 0; i < tumble::bench::NatsCluster::kNodes; ++i) fanout_options.node_urls.push_back(cluster.url(i));
+  for (std::size_t i = 0; i < tumble::bench::NatsCluster::kNodes; ++i)
+    fanout_options.node_urls.push_back(cluster.url(i));
   fanout_options.subject = tumble::client::poses_subject(kWorld, kStream);
   fanout_options.subscriptions = options.subscribers;
   fanout_options.connections = std::min(options.connections, options.subscribers);
   fanout_options.delivery_threads = options.delivery_threads;
+  fanout_options.pending_messages = options.pending_frames;
   std::unique_ptr<tumble::bench::NatsFanout> fanout;
   std::thread([&] {
     tumble::bench::set_thread_priority(options.subscriber_nice, options.subscriber_idle, "nats_load");
-    fanout = std::make_unique<tumble::bench::NatsFanout>(fanout_options, window);
+    fanout = std::make_unique<tumble::bench::NatsFanout>(fanout_options, window, wall_window);
   }).join();
   if (!fanout->error().empty()) fail(fanout->error());
   tumble::client::NatsConnection watcher = connect_world(cluster.url(1), "nats_load-latency-watcher");
@@ -246,7 +266,8 @@ int main(int argc, char** argv) {
     fail("subscribe the latency watcher: " + subscribed.failure().message);
   }
 
-  if (auto resumed = controller.resume(std::chrono::seconds(10)); !resumed) fail("resume: " + resumed.failure().message);
+  if (auto resumed = controller.resume(std::chrono::seconds(10)); !resumed)
+    fail("resume: " + resumed.failure().message);
   if (options.settle) {
     const Clock::time_point give_up = Clock::now() + std::chrono::seconds(60);
     while (stats_or_exit(controller).bodies_asleep() < world.resting) {
@@ -263,22 +284,34 @@ int main(int argc, char** argv) {
   }
   const unsigned ready = fanout->ready();
 
+  // The measured ticks: D seconds of the sim from the next tick on. Their
+  // frames count whenever they arrive, until kGrace after the last.
   const tumble::v1::Stats before = stats_or_exit(controller);
+  const std::uint64_t first_tick = before.tick() + 1;
+  const auto window_ticks = static_cast<std::uint64_t>(std::llround(options.seconds * before.tick_rate_hz()));
+  window.set(first_tick, first_tick + window_ticks);
   const std::optional<double> tumbled_cpu_before = tumble::bench::process_cpu_seconds(tumbled.pid());
   const std::vector<std::optional<double>> nats_cpu_before = nats_cpu(cluster);
   const std::optional<double> own_cpu_before = tumble::bench::process_cpu_seconds(getpid());
   const Clock::time_point start = Clock::now();
   const Clock::time_point end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
-  window.set(start, end);
+  wall_window.set(start, end);
   const tumble::bench::LatencyResult latency = tumble::bench::measure_latency_over(
       controller, watcher, world.probe, tumble::bench::ProbeSignal::position, start, end);
   std::this_thread::sleep_until(end);
+  tumble::v1::Stats after = stats_or_exit(controller);
+  // Until the server has stepped the last measured tick (it may be behind its clock).
+  for (const Clock::time_point stop_waiting = Clock::now() + std::chrono::seconds(10);
+       after.tick() < first_tick + window_ticks && Clock::now() < stop_waiting;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    after = stats_or_exit(controller);
+  }
   const double wall = std::chrono::duration<double>(Clock::now() - start).count();
   const std::optional<double> tumbled_cpu_after = tumble::bench::process_cpu_seconds(tumbled.pid());
   const std::vector<std::optional<double>> nats_cpu_after = nats_cpu(cluster);
   const std::optional<double> own_cpu_after = tumble::bench::process_cpu_seconds(getpid());
-  const tumble::v1::Stats after = stats_or_exit(controller);
+  std::this_thread::sleep_for(kGrace);
   fanout->close();
 
   // The three nodes' CPU, each and summed ("-" when a node could not be read).
@@ -306,12 +339,13 @@ int main(int argc, char** argv) {
     total.gaps += tally.gaps;
     total.missed += tally.missed;
     total.errors += tally.errors;
+    total.handled_in_window += tally.handled_in_window;
     min_frames = std::min(min_frames, static_cast<double>(tally.frames));
   }
   const tumble::bench::NatsClientEvents events = fanout->events();
   // tumbled rounds the rate to a whole number of ticks.
   const double period_ticks = std::max(1.0, std::round(after.tick_rate_hz() / options.rate_hz));
-  const double expected_each = options.seconds * after.tick_rate_hz() / period_ticks;
+  const double expected_each = std::round(static_cast<double>(window_ticks) / period_ticks);
   const double subscribers = options.subscribers;
   std::vector<double> latency_ticks;
   for (const tumble::bench::LatencySample& sample : latency.samples) {
@@ -328,11 +362,12 @@ int main(int argc, char** argv) {
       "seconds=%g key_interval_s=%g subscribers_ready=%u "
       "bytes_per_body_frame=%.2f kbit_per_s_per_subscriber=%.1f wire_kbit_per_s_per_subscriber=%.1f "
       "frames=%llu frames_expected=%.0f frames_min_percent=%.1f frames_mean_percent=%.2f frames_shown=%llu "
+      "frames_handled_per_s=%.0f "
       "gaps=%llu frames_missed=%llu slow_consumer_errors=%llu client_dropped=%llu disconnects=%llu reconnects=%llu "
       "latency_samples=%zu latency_lost=%llu latency_ms_p50=%.2f latency_ms_p99=%.2f latency_ticks_p50=%.0f "
       "latency_ticks_p99=%.0f "
       "overruns=%llu ticks=%llu tick_ms_p50=%.2f tick_ms_p99=%.2f tick_cpu_ms_p99=%.2f tick_late_ms_p50=%.2f "
-      "tick_late_ms_p99=%.2f nats_frames_dropped=%llu "
+      "tick_late_ms_p99=%.2f nats_frames_dropped=%llu tumbled_nats_messages_out=%llu tumbled_nats_kbit_per_s=%.1f "
       "server_cpu_percent=%s nats_cpu_percent=%s nats_cpu_percent_nodes=%s load_cpu_percent=%s errors=%llu\n",
       options.world.c_str(), options.encoding.c_str(), options.subscribers, fanout_options.connections, options.bodies,
       options.rate_hz, after.tick_rate_hz(), options.seconds, options.key_interval_s, ready,
@@ -340,20 +375,21 @@ int main(int argc, char** argv) {
       kbit_per_s(total.bytes), kbit_per_s(total.wire_bytes), static_cast<unsigned long long>(total.frames),
       expected_each * subscribers, 100 * min_frames / expected_each,
       100 * static_cast<double>(total.frames) / (expected_each * subscribers),
-      static_cast<unsigned long long>(total.shown), static_cast<unsigned long long>(total.gaps),
-      static_cast<unsigned long long>(total.missed), static_cast<unsigned long long>(events.slow_consumer),
-      static_cast<unsigned long long>(events.dropped), static_cast<unsigned long long>(events.disconnects),
-      static_cast<unsigned long long>(events.reconnects), latency.latencies_ms.size(),
-      static_cast<unsigned long long>(latency.lost), tumble::bench::percentile(latency.latencies_ms, 0.5),
-      tumble::bench::percentile(latency.latencies_ms, 0.99), tumble::bench::percentile(latency_ticks, 0.5),
-      tumble::bench::percentile(latency_ticks, 0.99),
+      static_cast<unsigned long long>(total.shown), static_cast<double>(total.handled_in_window) / options.seconds,
+      static_cast<unsigned long long>(total.gaps), static_cast<unsigned long long>(total.missed),
+      static_cast<unsigned long long>(events.slow_consumer), static_cast<unsigned long long>(events.dropped),
+      static_cast<unsigned long long>(events.disconnects), static_cast<unsigned long long>(events.reconnects),
+      latency.latencies_ms.size(), static_cast<unsigned long long>(latency.lost),
+      tumble::bench::percentile(latency.latencies_ms, 0.5), tumble::bench::percentile(latency.latencies_ms, 0.99),
+      tumble::bench::percentile(latency_ticks, 0.5), tumble::bench::percentile(latency_ticks, 0.99),
       static_cast<unsigned long long>(after.overruns() - before.overruns()),
       static_cast<unsigned long long>(after.tick() - before.tick()), after.tick_ms_p50(), after.tick_ms_p99(),
       after.tick_cpu_ms_p99(), after.tick_start_late_ms_p50(), after.tick_start_late_ms_p99(),
       static_cast<unsigned long long>(after.nats().frames_dropped() - before.nats().frames_dropped()),
-      percent_text(tumbled_cpu_before, tumbled_cpu_after, wall).c_str(), nats_cpu_text.c_str(),
-      nats_nodes_text.c_str(), percent_text(own_cpu_before, own_cpu_after, wall).c_str(),
-      static_cast<unsigned long long>(errors));
+      static_cast<unsigned long long>(after.nats().messages_out() - before.nats().messages_out()),
+      static_cast<double>(after.nats().bytes_out() - before.nats().bytes_out()) * 8 / 1000 / wall,
+      percent_text(tumbled_cpu_before, tumbled_cpu_after, wall).c_str(), nats_cpu_text.c_str(), nats_nodes_text.c_str(),
+      percent_text(own_cpu_before, own_cpu_after, wall).c_str(), static_cast<unsigned long long>(errors));
   std::fflush(stdout);
   tumbled.stop();
   std::error_code ignored;
