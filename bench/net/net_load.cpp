@@ -12,10 +12,6 @@
 // clients elsewhere would not. It prints one line of key=value fields
 // (bench/README.md), and exits 3 when any request or stream failed.
 #include <poll.h>
-#include <pthread.h>
-#include <sched.h>
-#include <sys/resource.h>
-#include <sys/syscall.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -36,8 +32,10 @@
 #include "latency_probe.h"
 #include "load_connection.h"
 #include "load_world.h"
+#include "measured_window.h"
 #include "process_cpu.h"
 #include "stall_watch.h"
+#include "thread_priority.h"
 #include "tumble_client/pose_stream.h"
 
 namespace {
@@ -64,34 +62,10 @@ struct Options {
   bool subscriber_idle = false;
   std::string latency_log;   // a CSV of every latency sample; none when empty
   bool stall_watch = false;  // watch for stalls of the machine (stall_watch.h)
+  double probe_rate_hz = 0;  // the latency watcher's stream; 0: the tick rate
 };
 
-// Gives the calling thread this nice value (Linux: per thread), and with
-// idle the SCHED_IDLE policy: it then runs only on a core nothing else
-// wants. Best effort.
-void set_thread_priority(int nice, bool idle) {
-  if (nice != 0 && setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), nice) != 0) {
-    std::perror("net_load: setpriority");
-  }
-  if (!idle) return;
-  sched_param param{};
-  param.sched_priority = 0;
-  if (const int failed = pthread_setschedparam(pthread_self(), SCHED_IDLE, &param); failed != 0) {
-    std::fprintf(stderr, "net_load: SCHED_IDLE: error %d\n", failed);
-  }
-}
-
-// The measured window, set once every subscriber is in; a subscriber counts
-// the frames that arrive inside it and stops at its end.
-struct Window {
-  std::atomic<Clock::rep> start{std::numeric_limits<Clock::rep>::max()};
-  std::atomic<Clock::rep> end{std::numeric_limits<Clock::rep>::max()};
-  bool contains(Clock::time_point t) const {
-    const Clock::rep at = t.time_since_epoch().count();
-    return at >= start.load() && at < end.load();
-  }
-  bool over(Clock::time_point t) const { return t.time_since_epoch().count() >= end.load(); }
-};
+using Window = tumble::bench::MeasuredWindow;
 
 // What one subscriber counted inside the window.
 struct Tally {
@@ -170,7 +144,7 @@ void take_message(Subscriber& subscriber, const tumble::v1::ServerMessage& messa
 void run_subscribers(const Options& options, const std::vector<unsigned>& indices,
                      const std::vector<std::uint32_t>& bodies, std::atomic<unsigned>& ready, const Window& window,
                      std::vector<Tally>& tallies) {
-  set_thread_priority(options.subscriber_nice, options.subscriber_idle);
+  tumble::bench::set_thread_priority(options.subscriber_nice, options.subscriber_idle, "net_load");
   std::vector<Subscriber> subscribers;
   subscribers.reserve(indices.size());
   for (const unsigned index : indices) {
@@ -294,6 +268,10 @@ int main(int argc, char** argv) {
   app.add_flag("--stall-watch", options.stall_watch,
                "Watch every CPU for stalls of the machine itself (a SCHED_FIFO thread a CPU waking every 1 ms; "
                "needs root or RLIMIT_RTPRIO 90) and report them and the latency samples they touch");
+  app.add_option("--probe-rate", options.probe_rate_hz,
+                 "Rate of the latency watcher's stream of the probe, Hz (default: the tick rate, a frame every "
+                 "tick; the subscribers' rate puts the probe's frames on their ticks, as over NATS)")
+      ->check(CLI::Range(0.1, 10000.0));
   CLI11_PARSE(app, argc, argv);
 
   if (options.stall_watch) {
@@ -350,12 +328,12 @@ int main(int argc, char** argv) {
   const Clock::time_point start = Clock::now();
   const Clock::time_point end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
-  window.start = start.time_since_epoch().count();
-  window.end = end.time_since_epoch().count();
+  window.set(start, end);
 
   tumble::bench::LatencyResult latency;
   threads.emplace_back([&] {
-    latency = tumble::bench::measure_latency(options.target, world.probe, before.tick_rate_hz(),
+    const double probe_rate_hz = options.probe_rate_hz > 0 ? options.probe_rate_hz : before.tick_rate_hz();
+    latency = tumble::bench::measure_latency(options.target, world.probe, probe_rate_hz,
                                              encoding_of(options.encoding, 0), start, end);
   });
   std::vector<tumble::bench::Stall> stalls;

@@ -1,0 +1,95 @@
+#include "nats_cluster.h"
+
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <thread>
+
+namespace tumble::bench {
+namespace {
+
+std::string config_path(const std::string& dir, std::size_t i) { return dir + "/node" + std::to_string(i) + ".conf"; }
+std::string log_path(const std::string& dir, std::size_t i) { return dir + "/node" + std::to_string(i) + ".log"; }
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+}  // namespace
+
+std::uint16_t free_loopback_port() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (fd < 0) return 0;
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t length = sizeof(address);
+  std::uint16_t port = 0;
+  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
+      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+    port = ntohs(address.sin_port);
+  }
+  ::close(fd);
+  return port;
+}
+
+NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, int nice)
+    : path_(std::move(nats_server_path)), dir_(std::move(dir)), nice_(nice) {
+  for (std::size_t i = 0; i < kNodes; ++i) {
+    client_ports_[i] = free_loopback_port();
+    cluster_ports_[i] = free_loopback_port();
+  }
+  for (std::size_t i = 0; i < kNodes; ++i) {
+    std::ofstream config(config_path(dir_, i));
+    config << "listen: 127.0.0.1:" << client_ports_[i] << "\n"
+           << "server_name: tumble-bench-" << i << "\n"
+           << "cluster {\n"
+           << "  name: tumble-bench\n"
+           << "  listen: 127.0.0.1:" << cluster_ports_[i] << "\n"
+           << "  routes: [";
+    const char* separator = "";
+    for (std::size_t j = 0; j < kNodes; ++j) {
+      if (j == i) continue;
+      config << separator << "nats-route://127.0.0.1:" << cluster_ports_[j];
+      separator = ", ";
+    }
+    config << "]\n}\n";
+  }
+}
+
+std::string NatsCluster::start(std::chrono::seconds timeout) {
+  for (std::size_t i = 0; i < kNodes; ++i) {
+    nodes_[i] =
+        std::make_unique<ChildProcess>(std::vector<std::string>{path_, "-c", config_path(dir_, i)}, log_path(dir_, i));
+    if (!nodes_[i]->started()) return "cannot start " + path_;
+  }
+  // Ready, and a route to each of the two others (logged once per route).
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (std::size_t i = 0; i < kNodes; ++i) {
+    for (;;) {
+      const std::string log = read_text(log_path(dir_, i));
+      if (log.find("Server is ready") != std::string::npos && count(log, "Route connection created") >= kNodes - 1) {
+        break;
+      }
+      if (!nodes_[i]->running() || std::chrono::steady_clock::now() > deadline) {
+        return "nats-server node " + std::to_string(i) + " did not come up routed to the others:\n" + log;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  return "";
+}
+
+std::string NatsCluster::url(std::size_t i) const { return "nats://127.0.0.1:" + std::to_string(client_ports_[i]); }
+
+std::string NatsCluster::urls() const {
+  std::string out;
+  for (std::size_t i = 0; i < kNodes; ++i) out += (i == 0 ? "" : ",") + url(i);
+  return out;
+}
+
+}  // namespace tumble::bench
