@@ -377,6 +377,7 @@ Json world_info_json(const tumble::v1::WorldInfo& info) {
   out["streams"] = std::move(streams);
   out["events_subject"] = info.events_subject();
   out["rpc_subject"] = info.rpc_subject();
+  out["query_subject"] = info.query_subject();
   return out;
 }
 

@@ -90,7 +90,7 @@ std::string format_world_table(const std::vector<tumble::v1::WorldInfo>& worlds)
 
 // {"world", "tick", "tick_rate_hz", "bodies", "paused", "version",
 // "server_id", "streams": [{"name", "subject", "encoding", "rate_hz",
-// "fields", "key_interval_s"}], "events_subject", "rpc_subject"}.
+// "fields", "key_interval_s"}], "events_subject", "rpc_subject", "query_subject"}.
 Json world_info_json(const tumble::v1::WorldInfo& info);
 
 // "spawned", "removed", "asleep", "awake", "reset" or "diverged"; "" for an unknown kind.

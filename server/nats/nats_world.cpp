@@ -76,7 +76,12 @@ sim::Status NatsWorld::start() {
     if (!status.ok()) return status;
   }
   if (auto status = link_.subscribe(rpc_subject(config_.world), rpc_queue_group(config_.world),
-                                    [this](NatsRequest request) { answer_rpc(std::move(request)); });
+                                    [this](NatsRequest request) { answer_rpc(std::move(request), false); });
+      !status.ok()) {
+    return status;
+  }
+  if (auto status = link_.subscribe(query_subject(config_.world), rpc_queue_group(config_.world),
+                                    [this](NatsRequest request) { answer_rpc(std::move(request), true); });
       !status.ok()) {
     return status;
   }
@@ -121,6 +126,7 @@ tumble::v1::WorldInfo NatsWorld::world_info() const {
   }
   info.set_events_subject(events_subject(config_.world));
   info.set_rpc_subject(rpc_subject(config_.world));
+  info.set_query_subject(query_subject(config_.world));
   info.set_server_id(server_id_);
   return info;
 }
@@ -265,21 +271,29 @@ void NatsWorld::answer_key(std::size_t index, const std::string& reply) {
   send_reply(reply, message, 0);
 }
 
-void NatsWorld::answer_rpc(NatsRequest request) {
+void NatsWorld::answer_rpc(NatsRequest request, bool read_only) {
   link_.count_request();
+  const std::string subject = read_only ? query_subject(config_.world) : rpc_subject(config_.world);
   ClientMessage message;
   if (!message.ParseFromString(request.data)) {
     ServerMessage error;
     error.mutable_error()->set_code(tumble::v1::INVALID_ARGUMENT);
-    error.mutable_error()->set_message("the payload on " + rpc_subject(config_.world) +
-                                       " is not a ClientMessage; nothing was applied");
+    error.mutable_error()->set_message("the payload on " + subject + " is not a ClientMessage; nothing was applied");
     if (!request.reply.empty()) link_.publish(request.reply, error.SerializeAsString());
     return;
   }
   const auto answer = [&](const ServerMessage& reply) {
     if (!request.reply.empty()) send_reply(request.reply, reply, message.request_id());
   };
-  switch (message.kind_case()) {
+  const ClientMessage::KindCase kind = message.kind_case();
+  if (read_only && kind != ClientMessage::kHello && kind != ClientMessage::kListBodies &&
+      kind != ClientMessage::kGetStats) {
+    answer(sim::error_reply(message, tumble::v1::PERMISSION_DENIED,
+                            subject + " takes Hello, ListBodies and GetStats, which change nothing; commands go to " +
+                                rpc_subject(config_.world) + ", which NATS may let only controllers publish to"));
+    return;
+  }
+  switch (kind) {
     case ClientMessage::kHello: {
       if (auto problem = sim::check_hello(message.hello())) {
         answer(sim::error_reply(message, problem->code, problem->message));
@@ -293,7 +307,8 @@ void NatsWorld::answer_rpc(NatsRequest request) {
       welcome.set_tick(sim_.tick());
       welcome.set_sim_time(sim_.sim_time());
       welcome.set_body_count(sim_.body_count());
-      welcome.set_role(tumble::v1::ROLE_CONTROLLER);
+      // On .query the asker may be anyone; on .rpc NATS let it send commands.
+      welcome.set_role(read_only ? tumble::v1::ROLE_OBSERVER : tumble::v1::ROLE_CONTROLLER);
       answer(reply);
       return;
     }

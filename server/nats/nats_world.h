@@ -111,7 +111,8 @@ class NatsWorld {
   void publish_events(const sim::WorldEvents& events);
   // Answers a .key request for stream `index` (on the publishing thread).
   void answer_key(std::size_t index, const std::string& reply);
-  void answer_rpc(NatsRequest request);
+  // Answers a request on .rpc, or on .query when `read_only` (reads only).
+  void answer_rpc(NatsRequest request, bool read_only);
   // Sends `message` to `reply` from the publishing thread; over the max
   // payload it is an Error instead.
   void send_reply(const std::string& reply, const tumble::v1::ServerMessage& message, std::uint64_t request_id);

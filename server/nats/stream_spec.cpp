@@ -83,6 +83,8 @@ std::string events_subject(std::string_view world) { return "tumble.v1." + std::
 
 std::string rpc_subject(std::string_view world) { return "tumble.v1." + std::string(world) + ".rpc"; }
 
+std::string query_subject(std::string_view world) { return "tumble.v1." + std::string(world) + ".query"; }
+
 std::string rpc_queue_group(std::string_view world) { return "tumble." + std::string(world) + ".rpc"; }
 
 }  // namespace tumble::nats

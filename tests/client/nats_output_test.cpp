@@ -16,6 +16,7 @@ tumble::v1::WorldInfo demo_world() {
   info.set_server_id("a1b2");
   info.set_events_subject("tumble.v1.demo.events");
   info.set_rpc_subject("tumble.v1.demo.rpc");
+  info.set_query_subject("tumble.v1.demo.query");
   auto* q60 = info.add_streams();
   q60->set_name("q60");
   q60->set_subject("tumble.v1.demo.poses.q60");
@@ -53,7 +54,8 @@ TEST(WorldsOutput, OneJsonObjectPerWorld) {
             "\"tumble.v1.demo.poses.q60\", \"encoding\": \"quantized\", \"rate_hz\": 60.0, \"fields\": \"pose\", "
             "\"key_interval_s\": 0.0}, {\"name\": \"d12\", \"subject\": \"tumble.v1.demo.poses.d12\", \"encoding\": "
             "\"delta\", \"rate_hz\": 12.5, \"fields\": \"all\", \"key_interval_s\": 1.0}], \"events_subject\": "
-            "\"tumble.v1.demo.events\", \"rpc_subject\": \"tumble.v1.demo.rpc\"}\n");
+            "\"tumble.v1.demo.events\", \"rpc_subject\": \"tumble.v1.demo.rpc\", \"query_subject\": "
+            "\"tumble.v1.demo.query\"}\n");
 }
 
 tumble::v1::Stats stats_with_link() {

@@ -19,16 +19,19 @@
 namespace tumble::test {
 namespace {
 
+using nlohmann::json;
+
 // Users as docker/nats/auth.conf has them, with fixed test passwords.
 constexpr const char* kAuthConfig = R"(
 authorization {
   users = [
     { user: observer, password: obs-pass,
-      permissions: { publish: ["tumble.v1.worlds", "tumble.v1.*.key.>"],
+      permissions: { publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query"],
                      subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
     { user: controller, password: ctl-pass,
-      permissions: { publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.rpc"],
+      permissions: { publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query", "tumble.v1.*.rpc"],
                      subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
+    { user: tumbled, password: srv-pass }
   ]
 }
 )";
@@ -83,6 +86,29 @@ TEST(NatsCli, AnObserversCommandIsNotPermitted) {
   EXPECT_NE(result.err.find("tumble.v1.demo.rpc"), std::string::npos) << result.err;
 }
 
+TEST(NatsCli, AnObserverListsTheBodiesAndStatsButMayNotPush) {
+  NatsServerProcess nats(kAuthConfig);
+  ASSERT_TRUE(nats.start()) << nats.log();
+  TumbledProcess tumbled(kFloatingScene, {"--nats", as_user(nats, "tumbled", "srv-pass"), "--world", "demo"});
+  ASSERT_TRUE(tumbled.started()) << tumbled.log();
+  const std::vector<std::string> observer = {"--nats", as_user(nats, "observer", "obs-pass"), "--world", "demo"};
+  const auto as_observer = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), observer.begin(), observer.end());
+    return tumble(args);
+  };
+  CommandResult bodies;
+  ASSERT_TRUE(poll_until([&] {
+    return (bodies = as_observer({"--json", "bodies"})).exit_code == 0;
+  })) << bodies.err
+      << tumbled.log();
+  const json list = json::parse(bodies.out, nullptr, false);
+  EXPECT_EQ(body(list, "crate")["mass"], 2.0) << bodies.out;
+  EXPECT_EQ(as_observer({"stats"}).exit_code, 0);
+  const CommandResult push = as_observer({"impulse", "crate", "--impulse", "1", "0", "0"});
+  EXPECT_EQ(push.exit_code, 1);
+  EXPECT_EQ(push.err.rfind("tumble: not permitted: ", 0), 0u) << push.err;
+}
+
 TEST(NatsCli, AControllersCommandWithNoServerOfTheWorldSaysSo) {
   NatsServerProcess nats(kAuthConfig);
   ASSERT_TRUE(nats.start()) << nats.log();
@@ -99,9 +125,9 @@ TEST(NatsCli, WorldsWithNoWorldRunningListsNone) {
   const CommandResult table = tumble({"--nats", as_user(nats, "observer", "obs-pass"), "worlds"});
   EXPECT_EQ(table.exit_code, 0) << table.err;
   EXPECT_EQ(table.out, "no worlds answered\n");
-  const CommandResult json = tumble({"--nats", as_user(nats, "observer", "obs-pass"), "--json", "worlds"});
-  EXPECT_EQ(json.exit_code, 0) << json.err;
-  EXPECT_EQ(json.out, "");
+  const CommandResult lines = tumble({"--nats", as_user(nats, "observer", "obs-pass"), "--json", "worlds"});
+  EXPECT_EQ(lines.exit_code, 0) << lines.err;
+  EXPECT_EQ(lines.out, "");
 }
 
 // A real tumbled serving world "lab" (kFloatingScene: no gravity, the crate
@@ -109,8 +135,6 @@ TEST(NatsCli, WorldsWithNoWorldRunningListsNone) {
 // without users, with a stream of each encoding.
 class NatsCliWorld : public ::testing::Test {
  protected:
-  using json = nlohmann::json;
-
   void SetUp() override {
     ASSERT_TRUE(nats_.start()) << nats_.log();
     tumbled_ = std::make_unique<TumbledProcess>(

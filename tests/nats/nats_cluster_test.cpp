@@ -77,7 +77,7 @@ TEST_F(NatsClusterWorld, SubscribersOnEveryNodeGetTheSameFrames) {
     }));
   }
   const std::vector<std::map<std::uint64_t, std::string>> seen = {by_sequence(*frames[0]), by_sequence(*frames[1]),
-                                                                   by_sequence(*frames[2])};
+                                                                  by_sequence(*frames[2])};
   std::uint64_t from = 0;
   for (const auto& node : seen) from = std::max(from, node.begin()->first);
   ASSERT_LT(from + 30, upto) << "the three subscriptions overlap by 30 frames at least";

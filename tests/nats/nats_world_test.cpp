@@ -227,6 +227,37 @@ TEST_F(NatsWorld, AKeyRequestAnswersTheLatestFrameWholeWithItsSequence) {
   }));
 }
 
+TEST_F(NatsWorld, QueryAnswersReadsAsAnObserverAndRefusesCommandsChangingNothing) {
+  auto tumbled = start_tumbled({"--nats-stream", "f=full@60:all"});
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  ClientMessage hello;
+  hello.set_request_id(1);
+  hello.mutable_hello()->set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
+  const ServerMessage welcome = parse(*client.request("tumble.v1.lab.query", hello.SerializeAsString()));
+  ASSERT_TRUE(welcome.has_welcome()) << welcome.DebugString();
+  EXPECT_EQ(welcome.welcome().role(), tumble::v1::ROLE_OBSERVER);
+
+  ClientMessage list;
+  list.set_request_id(2);
+  list.mutable_list_bodies();
+  const ServerMessage bodies = parse(*client.request("tumble.v1.lab.query", list.SerializeAsString()));
+  ASSERT_EQ(bodies.body_list().bodies_size(), 2) << bodies.DebugString();
+  EXPECT_EQ(bodies.body_list().bodies(0).name(), "crate");
+
+  const ServerMessage refused = parse(*client.request("tumble.v1.lab.query", force_request("crate", 240, 3)));
+  ASSERT_TRUE(refused.has_error()) << refused.DebugString();
+  EXPECT_EQ(refused.error().request_id(), 3u);
+  EXPECT_EQ(refused.error().code(), tumble::v1::PERMISSION_DENIED);
+  EXPECT_NE(refused.error().message().find("tumble.v1.lab.rpc"), std::string::npos) << refused.error().message();
+  // Nothing moved: a frame after the refusal shows both bodies at rest.
+  auto frames = client.subscribe("tumble.v1.lab.poses.f");
+  ASSERT_TRUE(frames && frames->wait_count(2));
+  const tumble::v1::PoseFrame frame = parse(frames->messages()[1].data).pose_frame();
+  ASSERT_EQ(frame.linear_velocities_size(), 6);
+  for (int i = 0; i < frame.linear_velocities_size(); ++i) EXPECT_EQ(frame.linear_velocities(i), 0.0f);
+}
+
 TEST_F(NatsWorld, TwoTumbledOfOneWorldAnswerAnRpcOnce) {
   auto first = start_tumbled();
   auto second = start_tumbled();

@@ -29,10 +29,10 @@ websocket { listen: "127.0.0.1:-1", no_tls: true }
 authorization {
   users = [
     { user: ${kUsers.observer.user}, password: ${kUsers.observer.pass}, permissions: {
-        publish: ["tumble.v1.worlds", "tumble.v1.*.key.>"],
+        publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query"],
         subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
     { user: ${kUsers.controller.user}, password: ${kUsers.controller.pass}, permissions: {
-        publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.rpc"],
+        publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query", "tumble.v1.*.rpc"],
         subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
     { user: ${kUsers.tumbled.user}, password: ${kUsers.tumbled.pass}, permissions: {
         publish: ["tumble.v1.>", "_INBOX.>"], subscribe: ["tumble.v1.>", "_INBOX.>"] } }

@@ -91,7 +91,9 @@ const kIdentity = 511 * 4 + 511 * 4096 + 511 * 4194304;
 // --- a world's server, played by the test: it answers tumble.v1.worlds,
 // .rpc (Hello, ListBodies) and .key.<stream>, and publishes frames on demand.
 class FakeWorld {
-  constructor(nc, name, { encoding = PoseEncoding.POSE_ENCODING_DELTA, stream = "d60" } = {}) {
+  // `query`: whether it answers on `.query` too, as tumbled does (a server
+  // that does not stands for an older one, or a NATS without the subject).
+  constructor(nc, name, { encoding = PoseEncoding.POSE_ENCODING_DELTA, stream = "d60", query = true } = {}) {
     this.nc = nc;
     this.name = name;
     this.stream = stream;
@@ -109,6 +111,20 @@ class FakeWorld {
     const reply = (handler) => (error, message) => {
       if (!error) message.respond(types.ServerMessage.encode(types.ServerMessage.fromObject(handler(message))).finish());
     };
+    const answer = reply((message) => {
+      const request = types.ClientMessage.decode(message.data);
+      if (request.kind === "hello") {
+        return { welcome: { tickRateHz: 120, tick: this.tick, role: types.Role.ROLE_CONTROLLER } };
+      }
+      if (request.kind === "listBodies") {
+        // Pages of two bodies, to be read page after page.
+        const ids = [...this.bodies.keys()].filter((id) => id >= request.listBodies.startId).sort((a, b) => a - b);
+        return { bodyList: { requestId: request.requestId, tick: this.tick,
+                             bodies: ids.slice(0, 2).map((id) => ({ id, name: `body${id}` })),
+                             nextStartId: ids.length > 2 ? ids[2] : 0, totalBodies: this.bodies.size } };
+      }
+      return { error: { requestId: request.requestId, code: types.ErrorCode.INVALID_ARGUMENT, message: "not here" } };
+    });
     this.subscriptions = [
       nc.subscribe("tumble.v1.worlds", { callback: (error, message) => {
         if (!error) message.respond(types.WorldInfo.encode(this.info).finish());
@@ -117,21 +133,9 @@ class FakeWorld {
         ++this.keyRequests;
         return { poseFrame: this.frame(true, this.sequence) };
       }) }),
-      nc.subscribe(`tumble.v1.${name}.rpc`, { callback: reply((message) => {
-        const request = types.ClientMessage.decode(message.data);
-        if (request.kind === "hello") {
-          return { welcome: { tickRateHz: 120, tick: this.tick, role: types.Role.ROLE_CONTROLLER } };
-        }
-        if (request.kind === "listBodies") {
-          // Pages of two bodies, to be read page after page.
-          const ids = [...this.bodies.keys()].filter((id) => id >= request.listBodies.startId).sort((a, b) => a - b);
-          return { bodyList: { requestId: request.requestId, tick: this.tick,
-                               bodies: ids.slice(0, 2).map((id) => ({ id, name: `body${id}` })),
-                               nextStartId: ids.length > 2 ? ids[2] : 0, totalBodies: this.bodies.size } };
-        }
-        return { error: { requestId: request.requestId, code: types.ErrorCode.INVALID_ARGUMENT, message: "not here" } };
-      }) }),
+      nc.subscribe(`tumble.v1.${name}.rpc`, { callback: answer }),
     ];
+    if (query) this.subscriptions.push(nc.subscribe(`tumble.v1.${name}.query`, { callback: answer }));
   }
 
   // The state at the current sequence: every body (key) or those changed since the previous frame.
@@ -327,9 +331,26 @@ test("after a lost DELTA frame nothing new is shown until a key frame restores t
   }
 });
 
-test("a controller lists the bodies page by page; NATS refuses an observer's requests and its bodies come from the stream", async () => {
+test("an observer lists the bodies by name on .query, page by page", async () => {
   const server = await connectAs("tumbled");
-  const world = new FakeWorld(server, "roles");
+  const world = new FakeWorld(server, "reads");
+  for (const id of [3, 5, 9]) world.bodies.set(id, [id, 0, 0]);
+  const observer = await connectAs("observer");
+  const asObserver = new NatsSession(observer, types, await findWorld(observer, types, "reads"));
+  try {
+    assert.equal((await asObserver.hello()).role, types.Role.ROLE_OBSERVER);
+    assert.deepEqual((await asObserver.listAllBodies()).map((b) => b.name), ["body3", "body5", "body9"]);
+  } finally {
+    asObserver.close();
+    world.close();
+    await observer.close();
+    await server.close();
+  }
+});
+
+test("a controller lists the bodies page by page; NATS refuses an observer's commands; without .query its bodies come from the stream", async () => {
+  const server = await connectAs("tumbled");
+  const world = new FakeWorld(server, "roles", { query: false });
   for (const id of [4, 7, 8, 11, 12]) world.bodies.set(id, [id, 0, 0]);
   const controller = await connectAs("controller");
   const observer = await connectAs("observer");

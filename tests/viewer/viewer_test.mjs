@@ -367,8 +367,9 @@ test("through NATS an observer sees every body, and NATS refuses its push", { sk
   assert.equal(await page.locator('[data-hud="role"]').textContent(), "observer");
   const resting = await waitUntilAtRest("crate2");
   await waitUntilDrawnPast(page, resting.tick);
-  // The observer may not list bodies (a .rpc request): it knows them by id from the stream.
+  // The observer lists the bodies on .query: it knows crate2 by name, as a controller does.
   const id = resting.id;
+  assert.equal(await page.evaluate(() => window.tumbleViewer.bodyId("crate2")), id);
   const drawn = await page.evaluate((id) => window.tumbleViewer.position(id), id);
   assert.ok(distance(drawn, resting.position) < 2e-3, `crate2 is drawn at ${drawn}, the server has it at ${resting.position}`);
   const at = await screenPosition(page, id);

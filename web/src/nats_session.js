@@ -1,14 +1,15 @@
 // One world read through NATS, with the same surface as protocol.js's
-// Session so the viewer does not tell them apart: request() and
-// listAllBodies() over the world's `.rpc` subject, onPoseFrame with the
+// Session so the viewer does not tell them apart: request() over the
+// world's `.rpc` subject, listAllBodies() over `.query`, onPoseFrame with the
 // whole state of the world's pose stream, onWorldEvent from its `.events`
 // subject. Subjects and payloads: docs/protocol.md, "NATS"; every payload is
 // one protobuf message without tumble's length prefix.
 //
 // NATS's permissions are the role: a user that may publish to `.rpc` is a
-// controller; an observer may read the stream and the events and ask for
-// key frames, and NATS refuses its requests. Its bodies are then those the
-// stream carries, without shapes or names (ListBodies is an `.rpc` request).
+// controller; an observer may read the stream and the events, ask for key
+// frames and list the bodies on `.query`, and NATS refuses its commands.
+// Where `.query` is not answered or not permitted, an observer's bodies are
+// those the stream carries, without shapes or names.
 import { PermissionViolationError } from "@nats-io/nats-core";
 import { PoseStream } from "./pose_stream.js";
 import { ProtocolError, listPages } from "./protocol.js";
@@ -89,6 +90,7 @@ export class NatsSession {
     this.types = types;
     this.world = world;
     this.stream = stream;
+    this.querySubject = world.querySubject || `tumble.v1.${world.world}.query`;
     this.keySubject = keySubject(world.world, stream.name);
     this.gate = new SequenceGate();
     this.poses = new PoseStream();
@@ -146,12 +148,12 @@ export class NatsSession {
     return this.rpc({ [kind]: payload });
   }
 
-  async rpc(fields, expect = null) {
+  // One ClientMessage on `subject` (default `.rpc`), resolved with the reply's content.
+  async rpc(fields, expect = null, subject = this.world.rpcSubject) {
     if (this.closed) throw new ProtocolError("the connection is closed");
     const { ClientMessage, ServerMessage } = this.types;
     const requestId = this.nextRequestId++;
     const bytes = ClientMessage.encode(ClientMessage.fromObject({ requestId, ...fields })).finish();
-    const subject = this.world.rpcSubject;
     let reply;
     try {
       reply = await this.nc.request(subject, bytes, { timeout: kRequestTimeoutMs });
@@ -166,11 +168,17 @@ export class NatsSession {
     return message[message.kind];
   }
 
-  // Every body, as Session.listAllBodies. An observer may not list them:
-  // its bodies are those of the first frame shown at or after the newest
-  // world event (a spawn shows from its event's tick on), at that frame's
-  // poses, with no shape or name (the view draws a small marker).
+  // Every body, as Session.listAllBodies, read on `.query`. Where that
+  // fails, a controller lists them on `.rpc`; an observer's bodies are
+  // those of the first frame shown at or after the newest world event (a
+  // spawn shows from its event's tick on), at that frame's poses, with no
+  // shape or name (the view draws a small marker).
   async listAllBodies() {
+    try {
+      return await listPages((startId) => this.rpc({ listBodies: { startId } }, "bodyList", this.querySubject));
+    } catch (error) {
+      if (!(error instanceof ProtocolError) || this.closed) throw error;
+    }
     if (this.controller) return listPages((startId) => this.request("listBodies", { startId }));
     const frame = await new Promise((resolve, reject) => {
       if (this.closed) reject(new ProtocolError("the connection is closed"));

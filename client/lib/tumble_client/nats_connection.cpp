@@ -351,7 +351,9 @@ Result<ServerMessage> NatsConnection::request(ClientMessage message, Timeout tim
   const std::uint64_t id = state.next_request_id++;
   message.set_request_id(id);
   const std::string name = kind_name(message);
-  const std::string subject = rpc_subject(state.options.world);
+  // Reads go where any user may send them, so an observer lists bodies and stats too.
+  const bool read_only = message.has_list_bodies() || message.has_get_stats() || message.has_hello();
+  const std::string subject = read_only ? query_subject(state.options.world) : rpc_subject(state.options.world);
   const std::string token = "r" + std::to_string(id);
   const auto deadline = deadline_after(timeout);
   if (auto failure = state.publish_request(subject, token, message.SerializeAsString())) return *failure;

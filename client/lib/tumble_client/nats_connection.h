@@ -1,7 +1,8 @@
 // NatsConnection: a world served into NATS, reached through a NATS server
 // with the nats.c client.
 //
-// Requests go to tumble.v1.<world>.rpc and are answered by whichever
+// Requests go to tumble.v1.<world>.rpc (reads: Hello, ListBodies and
+// GetStats, to tumble.v1.<world>.query) and are answered by whichever
 // server of the world takes them; pose frames are read from one of the
 // streams the world publishes (tumble.v1.<world>.poses.<stream>), world
 // events from tumble.v1.<world>.events. The NATS user's permissions are the
@@ -66,7 +67,8 @@ class NatsConnection final : public Transport {
   // "world 'demo' over NATS".
   std::string describe() const override;
 
-  // One request on the world's .rpc subject, the reply checked as over TCP.
+  // One request on the world's .rpc subject (.query for a read), the reply
+  // checked as over TCP.
   // Besides Transport::request()'s failures: kind connect when no server of
   // the world listens (NATS's "no responders"), server PERMISSION_DENIED
   // when the NATS user may not publish there, invalid_argument without a

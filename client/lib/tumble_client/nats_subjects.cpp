@@ -33,6 +33,8 @@ std::string stream_name_problem(std::string_view name) { return name_problem("st
 
 std::string rpc_subject(std::string_view world) { return world_prefix(world) + ".rpc"; }
 
+std::string query_subject(std::string_view world) { return world_prefix(world) + ".query"; }
+
 std::string events_subject(std::string_view world) { return world_prefix(world) + ".events"; }
 
 std::string poses_subject(std::string_view world, std::string_view stream) {

@@ -4,6 +4,7 @@
 //   tumble.v1.<world>.key.<stream>     request: the stream's latest frame as a key frame
 //   tumble.v1.<world>.events           world events, one per message
 //   tumble.v1.<world>.rpc              request: a ClientMessage; reply: a ServerMessage
+//   tumble.v1.<world>.query            the same for Hello, ListBodies and GetStats only
 //   tumble.v1.worlds                   request: every server answers its WorldInfo
 //
 // Payloads are protobuf bytes, one message per NATS message, without the
@@ -30,6 +31,7 @@ std::string world_name_problem(std::string_view name);
 std::string stream_name_problem(std::string_view name);
 
 std::string rpc_subject(std::string_view world);
+std::string query_subject(std::string_view world);
 std::string events_subject(std::string_view world);
 std::string poses_subject(std::string_view world, std::string_view stream);
 std::string key_subject(std::string_view world, std::string_view stream);
