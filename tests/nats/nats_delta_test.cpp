@@ -128,6 +128,17 @@ class DeltaReaders : public ::testing::Test {
     }
   }
 
+  // The next `count` frames shown after `tick`: each later than the one
+  // before, each as the FULL frame of its tick.
+  void expect_next_as_full(NatsConnection& connection, client::PoseStream& stream, std::uint64_t tick, int count) {
+    for (int i = 0; i < count; ++i) {
+      const Shown shown = next(connection, stream);
+      EXPECT_GT(shown.sample.tick, tick);
+      tick = shown.sample.tick;
+      expect_as_full(shown);
+    }
+  }
+
   NatsServerProcess nats_;
   std::unique_ptr<TumbledProcess> tumbled_;
   std::unique_ptr<NatsTestClient> observer_;  // reads the FULL stream and counts the DELTA one
@@ -148,13 +159,7 @@ TEST_F(DeltaReaders, ALateJoinerShowsTheWorldFromTheKeyFrameItAsksFor) {
   expect_as_full(first);
   // Later frames may include another key frame: a change published while
   // the key reply was on its way can overtake it, and the reader asks again.
-  std::uint64_t tick = first.sample.tick;
-  for (int i = 0; i < 30; ++i) {
-    const Shown shown = next(*connection, stream);
-    EXPECT_GT(shown.sample.tick, tick);
-    tick = shown.sample.tick;
-    expect_as_full(shown);
-  }
+  expect_next_as_full(*connection, stream, first.sample.tick, 30);
 }
 
 TEST_F(DeltaReaders, AReaderThatFellBehindShowsNothingWrongAndComesBackByItsKeyRequest) {
@@ -174,13 +179,7 @@ TEST_F(DeltaReaders, AReaderThatFellBehindShowsNothingWrongAndComesBackByItsKeyR
   EXPECT_TRUE(back.key_frame) << "after a gap, the first frame shown is the key frame asked for";
   EXPECT_GT(back.sequence, last.sequence + 1);
   expect_as_full(back);
-  std::uint64_t tick = back.sample.tick;
-  for (int i = 0; i < 30; ++i) {
-    const Shown shown = next(*connection, stream);
-    EXPECT_GT(shown.sample.tick, tick);
-    tick = shown.sample.tick;
-    expect_as_full(shown);
-  }
+  expect_next_as_full(*connection, stream, back.sample.tick, 30);
 }
 
 }  // namespace
