@@ -136,9 +136,11 @@ int main(int argc, char** argv) {
   std::optional<tumble::net::Server> server;
   if (options.serve_tcp) server.emplace(io, sim, server_config(options));
   // The NATS side: connects (or keeps trying) in the background.
+  std::optional<tumble::nats::NatsLibraryScope> nats_library;
   std::unique_ptr<tumble::nats::NatsLink> nats_link;
   std::unique_ptr<tumble::nats::NatsWorld> nats_world;
   if (!options.nats_urls.empty()) {
+    nats_library.emplace();
     tumble::nats::NatsLinkConfig link_config;
     link_config.urls = options.nats_urls;
     link_config.creds_file = options.nats_creds_path;

@@ -8,6 +8,20 @@
 #include "command_line.h"
 #include "commands.h"
 #include "exit_code.h"
+#include "tumble_client/nats_connection.h"
+
+namespace {
+
+// Over NATS, the run ends with nats.c's threads finished, not still in
+// OpenSSL while the process exits.
+struct NatsLibraryScope {
+  bool used;
+  ~NatsLibraryScope() {
+    if (used) tumble::client::close_nats_library();
+  }
+};
+
+}  // namespace
 
 int main(int argc, char** argv) {
   try {
@@ -20,6 +34,7 @@ int main(int argc, char** argv) {
       }
       return parsed.exit_code;
     }
+    const NatsLibraryScope nats_library{!parsed.invocation->global.nats.empty()};
     if (auto failure = tumble::cli::run(*parsed.invocation, std::cout, ::isatty(STDOUT_FILENO) == 1)) {
       std::cerr << "tumble: " << failure->message << std::endl;
       return tumble::cli::kExitFailure;

@@ -28,6 +28,8 @@ std::string without_credentials(std::string_view url) {
   return std::string(url.substr(0, start)) + std::string(url.substr(at + 1));
 }
 
+NatsLibraryScope::~NatsLibraryScope() { nats_CloseAndWait(2000); }
+
 NatsLink::NatsLink(NatsLinkConfig config, spdlog::logger& log) : config_(std::move(config)), log_(log) {}
 
 NatsLink::~NatsLink() {

@@ -48,6 +48,18 @@ struct NatsRequest {
   std::string data;
 };
 
+// Waits, as it goes out of scope, for nats.c's own threads to finish (up to
+// 2 s), so that none of them still runs (in OpenSSL, say) while the process
+// exits. One per process, made in main before the NatsLink so that it
+// outlives it.
+class NatsLibraryScope {
+ public:
+  NatsLibraryScope() = default;
+  ~NatsLibraryScope();
+  NatsLibraryScope(const NatsLibraryScope&) = delete;
+  NatsLibraryScope& operator=(const NatsLibraryScope&) = delete;
+};
+
 class NatsLink {
  public:
   NatsLink(NatsLinkConfig config, spdlog::logger& log);

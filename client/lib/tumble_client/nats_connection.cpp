@@ -547,4 +547,8 @@ Result<ServerMessage> NatsConnection::next_message(Timeout timeout) {
   }
 }
 
+void close_nats_library(Timeout timeout) {
+  nats_CloseAndWait(std::chrono::duration_cast<std::chrono::milliseconds>(timeout).count());
+}
+
 }  // namespace tumble::client

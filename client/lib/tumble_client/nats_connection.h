@@ -111,4 +111,9 @@ class NatsConnection final : public Transport {
   std::unique_ptr<State> state_;  // null only in a moved-from NatsConnection
 };
 
+// Waits for nats.c's own threads to finish, up to `timeout`, so that none of
+// them still runs (in OpenSSL, say) while the process exits. Call once, from
+// main, after every NatsConnection is gone; none may be made afterwards.
+void close_nats_library(Timeout timeout = std::chrono::seconds(2));
+
 }  // namespace tumble::client
