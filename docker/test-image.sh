@@ -10,8 +10,20 @@
 #   3. `podman stop` (SIGTERM) ends the container with exit code 0;
 #   4. persistence: a new container on the same volume resumes the world where
 #      the first one stopped (the tick goes on, the crate keeps its velocity
-#      and is where that velocity has taken it).
-# Then prints the runtime image size and the build time.
+#      and is where that velocity has taken it);
+#   5. NATS: docker/compose.nats.yaml's topology on a podman network of its
+#      own: three nodes of the Dockerfile's `nats` image routed into one
+#      cluster (the first with the WebSocket listener), tumbled for world
+#      demo publishing into all three with its TCP listener kept. From the
+#      host, through each node, an observer's `tumble --nats ... worlds` finds
+#      demo, it lists the bodies and its force is refused; a client
+#      container, as the controller, pushes the crate and reads it moving in
+#      five frames; then the node tumbled is connected to is SIGKILLed and
+#      tumbled reconnects to another, whose frames reach the host and a
+#      client container.
+# Then prints the runtime image size, the build time and the time of part 5.
+# Every container, volume and the network are removed at the end, whatever
+# happens.
 #
 #   docker/test-image.sh [PATH/TO/tumble]   (or TUMBLE_CLI; default build/client/cli/tumble)
 #
@@ -20,6 +32,7 @@
 #               (default /tmp/tumble-podman; reused between runs, so only the
 #               first run pays for debootstrap and the build packages)
 #   IMAGE       tag to build (default localhost/tumble:test)
+#   NATS_IMAGE  tag of the Dockerfile's nats target (default localhost/tumble-nats:test)
 #   DOCKERFILE  default docker/Dockerfile
 #   MIRROR      Debian mirror for debootstrap (default: the one apt uses)
 #
@@ -31,6 +44,7 @@ ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 CLI=${1:-${TUMBLE_CLI:-$ROOT/build/client/cli/tumble}}
 WORK=${WORK:-/tmp/tumble-podman}
 IMAGE=${IMAGE:-localhost/tumble:test}
+NATS_IMAGE=${NATS_IMAGE:-localhost/tumble-nats:test}
 DOCKERFILE=${DOCKERFILE:-$ROOT/docker/Dockerfile}
 SUITE=bookworm
 RUN_ID=tumble-test-$$
@@ -49,7 +63,7 @@ CLI=$(cd "$(dirname "$CLI")" && pwd)/$(basename "$CLI")
 
 if [[ $(id -u) -ne 0 ]]; then
   command -v sudo >/dev/null || die "needs root for rootful podman (and sudo is not installed)"
-  exec sudo WORK="$WORK" IMAGE="$IMAGE" DOCKERFILE="$DOCKERFILE" ${MIRROR:+MIRROR="$MIRROR"} \
+  exec sudo WORK="$WORK" IMAGE="$IMAGE" NATS_IMAGE="$NATS_IMAGE" DOCKERFILE="$DOCKERFILE" ${MIRROR:+MIRROR="$MIRROR"} \
     "${BASH_SOURCE[0]}" "$CLI"
 fi
 
@@ -93,6 +107,8 @@ default_sysctls = ["net.ipv4.ping_group_range=0 0"]
 default_ulimits = ["nofile=$NOFILE:$NOFILE", "nproc=$NPROC:$NPROC"]
 [engine]
 runtime = "runc"
+[network]
+network_config_dir = "$WORK/networks"
 EOF
 export CONTAINERS_STORAGE_CONF=$WORK/storage.conf CONTAINERS_CONF=$WORK/containers.conf
 
@@ -167,20 +183,36 @@ podman build --pull=never --format docker -f "$DOCKERFILE" -t "$IMAGE" "$ROOT" >
 BUILD_SECONDS=$((SECONDS - build_start))
 IMAGE_BYTES=$(podman image inspect --format '{{.Size}}' "$IMAGE")
 # Housekeeping, never fatal: tag the build stage's last image (the line
-# "--> ID" before the runtime stage starts) so that its compile stays cached,
-# then prune what earlier builds left untagged (about 15 MB each).
-build_stage=$(awk '/^\[2\/2\] STEP 1\//{exit} /^--> [0-9a-f]+$/{id=$2} END{print id}' "$WORK/build.log")
+# "--> ID" before the first stage on bookworm-slim starts) so that its
+# compile stays cached, then prune what earlier builds left untagged (about
+# 15 MB each).
+build_stage=$(awk '/^\[[0-9]+\/[0-9]+\] STEP 1\/[0-9]+: FROM debian:bookworm-slim/{exit} /^--> [0-9a-f]+$/{id=$2} END{print id}' \
+  "$WORK/build.log")
 if [[ -n $build_stage ]] && podman tag "$build_stage" "$IMAGE-build" 2>/dev/null; then
   podman image prune -f >/dev/null 2>&1 || true
 fi
 say "built in $BUILD_SECONDS s; image size $IMAGE_BYTES bytes"
 
+say "building $NATS_IMAGE, the Dockerfile's nats target (log: $WORK/build-nats.log)"
+nats_build_start=$SECONDS
+podman build --pull=never --format docker --target nats -f "$DOCKERFILE" -t "$NATS_IMAGE" "$ROOT" \
+    >"$WORK/build-nats.log" 2>&1 \
+  || { tail -n 40 "$WORK/build-nats.log" >&2; die "podman build --target nats failed (full log: $WORK/build-nats.log)"; }
+say "built $NATS_IMAGE in $((SECONDS - nats_build_start)) s"
+
 # ---- 5. run and check --------------------------------------------------------
+NET=$RUN_ID-net
 cleanup() {
-  podman rm -f -t 0 "$RUN_ID-1" "$RUN_ID-2" >/dev/null 2>&1 || true
+  # -v: tumbled's anonymous /data volumes too.
+  podman rm -f -v -t 0 "$RUN_ID-1" "$RUN_ID-2" "$RUN_ID-nats-1" "$RUN_ID-nats-2" "$RUN_ID-nats-3" \
+    "$RUN_ID-tumbled" "$RUN_ID-client" >/dev/null 2>&1 || true
   podman volume rm -f "$VOLUME" >/dev/null 2>&1 || true
+  podman network rm -f "$NET" >/dev/null 2>&1 || true
 }
 trap cleanup EXIT
+# A signal ends the script through exit, so that the EXIT trap still runs.
+trap 'die "stopped by SIGTERM"' TERM
+trap 'die "stopped by SIGINT"' INT
 podman volume create "$VOLUME" >/dev/null
 
 export TUMBLE_TOKEN=$TOKEN
@@ -335,8 +367,179 @@ check '($zc - ($zb + ($zb - $za) / ($tb - $ta) * ($tc - $tb)) | fabs) < 1e-5' \
 say "persistence: the world resumed where it stopped"
 
 stop_container "$RUN_ID-2"
+pm rm -v "$RUN_ID-2" >/dev/null
+
+# ---- 7. NATS: a cluster of three nodes, tumbled and a client -------------
+# As docker/compose.nats.yaml runs them, with the same names on the network
+# (nats-1, nats-2, nats-3) and the same arguments; the host reaches each
+# node through a published port.
+say "NATS: three nodes of $NATS_IMAGE on the network $NET, tumbled for world demo"
+cluster_start=$SECONDS
+# This run's passwords, letters and digits only: they travel in URLs.
+export TUMBLE_NATS_OBSERVER_PASSWORD=obs$$x$RANDOM$RANDOM
+export TUMBLE_NATS_CONTROLLER_PASSWORD=ctl$$x$RANDOM$RANDOM
+export TUMBLE_NATS_TUMBLED_PASSWORD=tbd$$x$RANDOM$RANDOM
+INNER_ADDRS=(nats-1:4222 nats-2:4222 nats-3:4222)
+
+# USER PASSWORD HOST:PORT... -> nats://USER:PASSWORD@HOST:PORT,... (the CLI's and tumbled's --nats)
+nats_urls() {
+  local user=$1 password=$2 urls=() address
+  shift 2
+  for address in "$@"; do urls+=("nats://$user:$password@$address"); done
+  (IFS=,; echo "${urls[*]}")
+}
+# The host's CLI through NATS, never waiting forever: nats_cli URLS ARGS...
+nats_cli() { timeout 30 "$CLI" --nats "$1" --timeout "${CLI_TIMEOUT:-10}" "${@:2}"; }
+# A client container on the network, as the controller through all three
+# nodes, running a shell command; its stdout is the command's.
+client() {  # COMMAND
+  podman run --rm --name "$RUN_ID-client" --no-healthcheck --network "$NET" \
+    -e TUMBLE_NATS="$(nats_urls controller "$TUMBLE_NATS_CONTROLLER_PASSWORD" "${INNER_ADDRS[@]}")" \
+    --entrypoint sh "$IMAGE" -c "$1" 2>"$WORK/client.err"
+}
+# Polls a command until it succeeds: until_ok TRIES COMMAND...; half a second apart.
+until_ok() {
+  local tries=$1 i
+  shift
+  for ((i = 0; i < tries; ++i)); do
+    "$@" && return 0
+    sleep 0.5
+  done
+  return 1
+}
+
+pm network create "$NET" >/dev/null || die "podman network create $NET failed"
+
+# Node I routes to the two others; nats-1 has websocket.conf, the viewer's listener.
+declare -A NATS_PORT
+for i in 1 2 3; do
+  routes=()
+  for j in 1 2 3; do ((j == i)) || routes+=("nats-route://nats-$j:6222"); done
+  conf=/etc/nats/auth.conf
+  ports=(-p 127.0.0.1::4222)
+  if ((i == 1)); then
+    conf=/etc/nats/websocket.conf
+    ports+=(-p 127.0.0.1::9222)
+  fi
+  pm run -d --name "$RUN_ID-nats-$i" --network "$NET" --network-alias "nats-$i" "${ports[@]}" \
+      -e TUMBLE_NATS_OBSERVER_PASSWORD -e TUMBLE_NATS_CONTROLLER_PASSWORD -e TUMBLE_NATS_TUMBLED_PASSWORD \
+      "$NATS_IMAGE" -c "$conf" --name "nats-$i" --cluster_name tumble --cluster nats://0.0.0.0:6222 \
+      --routes "$(IFS=,; echo "${routes[*]}")" >/dev/null \
+    || die "podman run nats-$i failed"
+  NATS_PORT[$i]=$(podman port "$RUN_ID-nats-$i" 4222/tcp | head -n 1 | sed 's/.*://')
+  [[ ${NATS_PORT[$i]} =~ ^[0-9]+$ ]] || die "no host port published for nats-$i"
+done
+[[ $(podman exec "$RUN_ID-nats-1" id -un) == nats ]] || die "nats-server does not run as the user nats"
+[[ $(podman exec "$RUN_ID-nats-1" cat /proc/1/comm) == nats-server ]] || die "PID 1 of nats-1 is not nats-server"
+# The host's URL of node I, as USER.
+host_url() { nats_urls "$1" "$(password_of "$1")" "127.0.0.1:${NATS_PORT[$2]}"; }
+password_of() {
+  case $1 in
+    observer) echo "$TUMBLE_NATS_OBSERVER_PASSWORD" ;;
+    controller) echo "$TUMBLE_NATS_CONTROLLER_PASSWORD" ;;
+  esac
+}
+
+pm run -d --name "$RUN_ID-tumbled" --network "$NET" -p 127.0.0.1::7400 -e TUMBLE_TOKEN "$IMAGE" \
+    --scene /usr/share/tumble/scenes/demo.json --world demo \
+    --nats "$(nats_urls tumbled "$TUMBLE_NATS_TUMBLED_PASSWORD" "${INNER_ADDRS[@]}")" >/dev/null \
+  || die "podman run tumbled (--nats) failed"
+
+# The world is found through each node: the routes carry the request to
+# tumbled's node and its reply back.
+finds_demo() { nats_cli "$1" --json worlds 2>/dev/null | jq -e 'select(.world == "demo")' >/dev/null; }
+for i in 1 2 3; do
+  if ! until_ok 60 finds_demo "$(host_url observer "$i")"; then
+    show_logs "$RUN_ID-tumbled"; show_logs "$RUN_ID-nats-$i"
+    die "NATS: 'tumble --nats ... worlds' through nats-$i did not find world demo within 30 s"
+  fi
+done
+say "NATS: an observer's 'tumble --nats ... worlds' finds demo through each of the three nodes"
+
+# tumbled keeps its TCP listener beside NATS.
+HOSTPORT=$(podman port "$RUN_ID-tumbled" 7400/tcp | head -n 1 | sed 's/.*://')
+cli bodies >/dev/null || die "NATS: tumbled with --nats does not answer 'tumble bodies' over TCP"
+
+# nats-1's WebSocket listener (the viewer's) upgrades a connection.
+ws_port=$(podman port "$RUN_ID-nats-1" 9222/tcp | head -n 1 | sed 's/.*://')
+exec {ws}<>"/dev/tcp/127.0.0.1/$ws_port" || die "NATS: nothing listens on nats-1's WebSocket port"
+printf 'GET / HTTP/1.1\r\nHost: 127.0.0.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n' >&"$ws"
+status=$(timeout 5 head -n 1 <&"$ws" || true)
+exec {ws}<&-
+[[ $status == "HTTP/1.1 101 Switching Protocols"* ]] \
+  || die "NATS: nats-1's WebSocket port did not upgrade the connection: ${status%$'\r'}"
+
+# An observer may not command: NATS itself refuses its request on .rpc.
+if out=$(nats_cli "$(host_url observer 2)" --world demo force crate --force 0 0 1 2>&1); then
+  die "NATS: an observer's force was accepted"
+fi
+[[ $out == "tumble: not permitted: "*'"tumble.v1.demo.rpc"'* ]] \
+  || die "NATS: an observer's force failed, but not as 'not permitted' on tumble.v1.demo.rpc: $out"
+say "NATS: an observer's force is refused: $out"
+# It reads, though: its ListBodies goes to .query, which auth.conf lets it ask.
+nats_cli "$(host_url observer 3)" --world demo --json bodies | jq -e '.bodies[] | select(.name == "crate")' >/dev/null \
+  || die "NATS: an observer's 'tumble --nats ... bodies' does not list the crate (.query refused?)"
+
+# The client container, as the controller: 20 N along z for 0.1 s on the
+# 2 kg crate (1 m/s, nothing in the way), then five frames of the stream.
+frames=$(client 'tumble --world demo force crate --force 0 0 20 --duration 0.1 >/dev/null &&
+                 tumble --world demo --json subscribe --count 5') \
+  || { cat "$WORK/client.err" >&2; die "NATS: the client container's force and subscribe failed"; }
+zs=$(jq -sc '[.[].bodies[] | select(.name == "crate") | .position[2]]' <<<"$frames") \
+  || die "NATS: the client's frames are not JSON: $frames"
+jq -e 'length == 5 and ([range(1; length) as $i | .[$i] > .[$i - 1]] | all)' <<<"$zs" >/dev/null \
+  || die "NATS: the client container's five frames do not show the crate moving along z: $zs"
+say "NATS: the client container pushed the crate as the controller and read it moving: z = $zs"
+
+# SIGKILL the node tumbled is connected to.
+stats=$(nats_cli "$(host_url controller 1),$(host_url controller 2),$(host_url controller 3)" --world demo --json stats) \
+  || die "NATS: 'tumble --nats ... stats' failed"
+server=$(jq -r '.nats.server_url' <<<"$stats")
+node=${server#nats://}
+node=${node%%:*}
+[[ $node =~ ^nats-[123]$ ]] || die "NATS: tumbled is connected to '$server', not to one of nats-1, nats-2, nats-3"
+killed=${node#nats-}
+others=()
+for i in 1 2 3; do ((i == killed)) || others+=("$i"); done
+tick_killed=$(cli --json bodies | jq -er .tick) || die "cannot read the tick over TCP"
+kill_start=$SECONDS
+pm kill "$RUN_ID-$node" >/dev/null || die "podman kill $node failed"
+rc=$(timeout 30 podman wait "$RUN_ID-$node" 2>/dev/null) || die "NATS: $node still runs after podman kill"
+[[ $rc == 137 ]] || die "NATS: $node exited with $rc after podman kill, not 137 (SIGKILL)"
+
+# tumbled notices and reconnects to one of the others, on its own.
+survivors="$(host_url controller "${others[0]}"),$(host_url controller "${others[1]}")"
+reconnected() {
+  CLI_TIMEOUT=2 nats_cli "$survivors" --world demo --json stats 2>/dev/null \
+    | jq -e --arg gone "$server" '.nats.connected and .nats.reconnects >= 1 and .nats.server_url != $gone' >/dev/null
+}
+if ! until_ok 60 reconnected; then
+  show_logs "$RUN_ID-tumbled"
+  die "NATS: tumbled did not reconnect to another node within 30 s of $node's SIGKILL"
+fi
+reconnect_seconds=$((SECONDS - kill_start))
+now=$(nats_cli "$survivors" --world demo --json stats | jq -r '.nats.server_url')
+say "NATS: $node SIGKILLed at tick $tick_killed; tumbled reconnected to $now within $reconnect_seconds s"
+
+# Frames keep coming, later than the kill, through each other node to the
+# host, and to a client container given all three (one of them gone).
+later() {  # FRAMES (JSON lines): COUNT frames, each after tick_killed
+  jq -se --argjson t "$tick_killed" --argjson n "$2" 'length == $n and all(.[]; .tick > $t)' <<<"$1" >/dev/null
+}
+for i in "${others[@]}"; do
+  frames=$(nats_cli "$(host_url observer "$i")" --world demo --json subscribe --count 3) \
+    || die "NATS: no frames through nats-$i after $node's SIGKILL"
+  later "$frames" 3 || die "NATS: the frames through nats-$i are not after tick $tick_killed: $frames"
+done
+frames=$(client 'tumble --world demo --json subscribe --count 3') \
+  || { cat "$WORK/client.err" >&2; die "NATS: the client container read no frames after $node's SIGKILL"; }
+later "$frames" 3 || die "NATS: the client container's frames are not after tick $tick_killed: $frames"
+say "NATS: frames after the SIGKILL reach the host through nats-${others[0]} and nats-${others[1]}, and a client container"
+CLUSTER_SECONDS=$((SECONDS - cluster_start))
+cleanup
 
 trap - ERR
 echo "test-image: PASS"
 echo "runtime image: $IMAGE, $IMAGE_BYTES bytes ($((IMAGE_BYTES / 1000000)) MB)"
 echo "build time: $BUILD_SECONDS s"
+echo "NATS cluster part: $CLUSTER_SECONDS s"

@@ -1,7 +1,8 @@
 // tumble --nats against real nats-server processes: what it says when NATS
-// cannot be reached or refuses it, one line each and a non-zero exit; and
-// the subcommands through NATS against a real tumbled --nats, with the
-// answers they give over TCP.
+// cannot be reached or refuses it, one line each and a non-zero exit; the
+// roles of docker/nats/auth.conf, read from the source tree, with tumbled
+// as that file's user; and the subcommands through NATS against a real
+// tumbled --nats, with the answers they give over TCP.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -14,6 +15,7 @@
 #include "nats_server_process.h"
 #include "poll_until.h"
 #include "process.h"
+#include "scoped_env.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -21,20 +23,20 @@ namespace {
 
 using nlohmann::json;
 
-// Users as docker/nats/auth.conf has them, with fixed test passwords.
-constexpr const char* kAuthConfig = R"(
-authorization {
-  users = [
-    { user: observer, password: obs-pass,
-      permissions: { publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query"],
-                     subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
-    { user: controller, password: ctl-pass,
-      permissions: { publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query", "tumble.v1.*.rpc"],
-                     subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
-    { user: tumbled, password: srv-pass }
-  ]
+// The test's passwords, given to nats-server through the environment that
+// docker/nats/auth.conf reads them from.
+constexpr const char* kObserverPassword = "obs-pass";
+constexpr const char* kControllerPassword = "ctl-pass";
+constexpr const char* kTumbledPassword = "tbd-pass";
+
+// docker/nats/auth.conf as committed (the very file the docs and the image
+// use), with the test's passwords.
+NatsConfig auth_config() {
+  return {read_file(TUMBLE_NATS_AUTH_CONF),
+          {std::string("TUMBLE_NATS_OBSERVER_PASSWORD=") + kObserverPassword,
+           std::string("TUMBLE_NATS_CONTROLLER_PASSWORD=") + kControllerPassword,
+           std::string("TUMBLE_NATS_TUMBLED_PASSWORD=") + kTumbledPassword}};
 }
-)";
 
 // A message of exactly one line.
 void ExpectOneLine(const std::string& text) {
@@ -63,7 +65,7 @@ TEST(NatsCli, AnUnreachableNatsUrlFailsInOneLineNamingTheFlag) {
 }
 
 TEST(NatsCli, AWrongPasswordFailsInOneLineWithoutShowingIt) {
-  NatsServerProcess nats(kAuthConfig);
+  NatsServerProcess nats(auth_config());
   ASSERT_TRUE(nats.start()) << nats.log();
   const CommandResult result =
       tumble({"--nats", as_user(nats, "controller", "wrong-pass"), "--world", "demo", "stats"});
@@ -75,10 +77,10 @@ TEST(NatsCli, AWrongPasswordFailsInOneLineWithoutShowingIt) {
 }
 
 TEST(NatsCli, AnObserversCommandIsNotPermitted) {
-  NatsServerProcess nats(kAuthConfig);
+  NatsServerProcess nats(auth_config());
   ASSERT_TRUE(nats.start()) << nats.log();
-  const CommandResult result = tumble(
-      {"--nats", as_user(nats, "observer", "obs-pass"), "--world", "demo", "force", "crate", "--force", "1", "0", "0"});
+  const CommandResult result = tumble({"--nats", as_user(nats, "observer", kObserverPassword), "--world", "demo",
+                                       "force", "crate", "--force", "1", "0", "0"});
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_EQ(result.out, "");
   ExpectOneLine(result.err);
@@ -87,11 +89,11 @@ TEST(NatsCli, AnObserversCommandIsNotPermitted) {
 }
 
 TEST(NatsCli, AnObserverListsTheBodiesAndStatsButMayNotPush) {
-  NatsServerProcess nats(kAuthConfig);
+  NatsServerProcess nats(auth_config());
   ASSERT_TRUE(nats.start()) << nats.log();
-  TumbledProcess tumbled(kFloatingScene, {"--nats", as_user(nats, "tumbled", "srv-pass"), "--world", "demo"});
+  TumbledProcess tumbled(kFloatingScene, {"--nats", as_user(nats, "tumbled", kTumbledPassword), "--world", "demo"});
   ASSERT_TRUE(tumbled.started()) << tumbled.log();
-  const std::vector<std::string> observer = {"--nats", as_user(nats, "observer", "obs-pass"), "--world", "demo"};
+  const std::vector<std::string> observer = {"--nats", as_user(nats, "observer", kObserverPassword), "--world", "demo"};
   const auto as_observer = [&](std::vector<std::string> args) {
     args.insert(args.begin(), observer.begin(), observer.end());
     return tumble(args);
@@ -110,24 +112,124 @@ TEST(NatsCli, AnObserverListsTheBodiesAndStatsButMayNotPush) {
 }
 
 TEST(NatsCli, AControllersCommandWithNoServerOfTheWorldSaysSo) {
-  NatsServerProcess nats(kAuthConfig);
+  NatsServerProcess nats(auth_config());
   ASSERT_TRUE(nats.start()) << nats.log();
-  const CommandResult result = tumble({"--nats", as_user(nats, "controller", "ctl-pass"), "--world", "demo", "force",
-                                       "crate", "--force", "1", "0", "0"});
+  const CommandResult result = tumble({"--nats", as_user(nats, "controller", kControllerPassword), "--world", "demo",
+                                       "force", "crate", "--force", "1", "0", "0"});
   EXPECT_EQ(result.exit_code, 1);
   ExpectOneLine(result.err);
   EXPECT_EQ(result.err, "tumble: no server serves world 'demo': nothing answers on tumble.v1.demo.rpc\n");
 }
 
 TEST(NatsCli, WorldsWithNoWorldRunningListsNone) {
-  NatsServerProcess nats(kAuthConfig);
+  NatsServerProcess nats(auth_config());
   ASSERT_TRUE(nats.start()) << nats.log();
-  const CommandResult table = tumble({"--nats", as_user(nats, "observer", "obs-pass"), "worlds"});
+  const CommandResult table = tumble({"--nats", as_user(nats, "observer", kObserverPassword), "worlds"});
   EXPECT_EQ(table.exit_code, 0) << table.err;
   EXPECT_EQ(table.out, "no worlds answered\n");
-  const CommandResult lines = tumble({"--nats", as_user(nats, "observer", "obs-pass"), "--json", "worlds"});
+  const CommandResult lines = tumble({"--nats", as_user(nats, "observer", kObserverPassword), "--json", "worlds"});
   EXPECT_EQ(lines.exit_code, 0) << lines.err;
   EXPECT_EQ(lines.out, "");
+}
+
+TEST(NatsAuthConfig, NatsServerRefusesTheFileWhileAPasswordIsMissing) {
+  // Whatever the test's own environment has: nats-server gets none of them.
+  const ScopedEnv observer("TUMBLE_NATS_OBSERVER_PASSWORD", nullptr);
+  const ScopedEnv controller("TUMBLE_NATS_CONTROLLER_PASSWORD", nullptr);
+  const ScopedEnv tumbled("TUMBLE_NATS_TUMBLED_PASSWORD", nullptr);
+  const std::string text = read_file(TUMBLE_NATS_AUTH_CONF);
+  ASSERT_NE(text.find("authorization"), std::string::npos) << "not read: " << TUMBLE_NATS_AUTH_CONF;
+  NatsServerProcess nats(text);
+  EXPECT_FALSE(nats.start());
+  EXPECT_NE(nats.log().find("TUMBLE_NATS_OBSERVER_PASSWORD"), std::string::npos) << nats.log();
+}
+
+// A real tumbled serving world "lab" (kFloatingScene) into a nats-server
+// with docker/nats/auth.conf, as that file's tumbled user, with a QUANTIZED
+// and a DELTA stream: the observer and the controller can each do what
+// their role is for, and nats-server refuses tumbled nothing (the file
+// gives it all it publishes and subscribes to, in its queue group).
+class NatsCliRoles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(nats_.start()) << nats_.log();
+    tumbled_ = std::make_unique<TumbledProcess>(
+        kFloatingScene,
+        std::vector<std::string>{"--nats", as_user(nats_, "tumbled", kTumbledPassword), "--world", "lab",
+                                 "--nats-stream", "q30=quantized@30", "--nats-stream", "d30=delta@30"});
+    ASSERT_TRUE(tumbled_->started()) << tumbled_->log();
+    ASSERT_TRUE(poll_until([&] { return as("observer", {"worlds"}).out.find("lab") != std::string::npos; }))
+        << tumbled_->log() << nats_.log();
+  }
+
+  void TearDown() override {
+    // Every refusal nats-server logs names the user it refused.
+    EXPECT_EQ(nats_.log().find("User \"tumbled\""), std::string::npos) << nats_.log();
+  }
+
+  // tumble --nats nats://USER:PASSWORD@... ARGS...
+  CommandResult as(const std::string& user, std::vector<std::string> args) const {
+    const std::string password = user == "observer" ? kObserverPassword : kControllerPassword;
+    args.insert(args.begin(), {"--nats", as_user(nats_, user, password)});
+    return tumble(args);
+  }
+
+  // The body of id `id` in a frame; a test failure and null when it is not there.
+  static json body_of(const json& frame, int id) {
+    for (const json& entry : frame["bodies"]) {
+      if (entry["id"] == id) return entry;
+    }
+    ADD_FAILURE() << "no body " << id << " in " << frame.dump();
+    return nullptr;
+  }
+
+  NatsServerProcess nats_{auth_config()};
+  std::unique_ptr<TumbledProcess> tumbled_;
+};
+
+TEST_F(NatsCliRoles, AnObserverFindsTheWorldAndReadsEachStream) {
+  const CommandResult worlds = as("observer", {"--json", "worlds"});
+  ASSERT_EQ(worlds.exit_code, 0) << worlds.err;
+  EXPECT_EQ(json::parse(worlds.out, nullptr, false)["world"], "lab") << worlds.out;
+  // The DELTA reader starts from a key frame it asks tumbled for on .key.
+  for (const std::string stream : {"q30", "d30"}) {
+    const CommandResult frames =
+        as("observer", {"--world", "lab", "--json", "subscribe", "--stream", stream, "--count", "3"});
+    ASSERT_EQ(frames.exit_code, 0) << stream << ": " << frames.err;
+    const std::vector<json> lines = json_lines(frames.out);
+    ASSERT_EQ(lines.size(), 3u) << stream << ": " << frames.out;
+    for (const json& frame : lines) EXPECT_EQ(frame["bodies"].size(), 2u) << stream << ": " << frame.dump();
+  }
+}
+
+TEST_F(NatsCliRoles, AnObserversForceIsRefusedAndAControllersMovesTheCrateForTheObserverToSee) {
+  const CommandResult refused = as("observer", {"--world", "lab", "force", "crate", "--force", "10", "0", "0"});
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_EQ(refused.err.rfind("tumble: not permitted: ", 0), 0u) << refused.err;
+
+  // 10 N for 24 ticks on 2 kg: 0.5 m/s along x once the ticks are over.
+  const CommandResult ack =
+      as("controller", {"--world", "lab", "--json", "force", "crate", "--force", "10", "0", "0", "--ticks", "24"});
+  ASSERT_EQ(ack.exit_code, 0) << ack.err;
+  const std::uint64_t applied = json::parse(ack.out, nullptr, false)["applied_tick"].get<std::uint64_t>();
+  const std::uint64_t done = applied + 24;
+  json list;
+  ASSERT_TRUE(poll_until([&] {
+    const CommandResult bodies = as("controller", {"--world", "lab", "--json", "bodies"});
+    list = json::parse(bodies.out, nullptr, false);
+    return bodies.exit_code == 0 && list.value("tick", std::uint64_t{0}) >= done;
+  }));
+  EXPECT_NEAR(body(list, "crate")["linear_velocity"][0].get<double>(), 0.5, 1e-9);
+
+  // The observer's frames (the first is the latest frame at the time, so
+  // after the force began) show the crate (id 0) drifting along x.
+  const CommandResult frames = as("observer", {"--world", "lab", "--json", "subscribe", "--count", "2"});
+  ASSERT_EQ(frames.exit_code, 0) << frames.err;
+  const std::vector<json> lines = json_lines(frames.out);
+  ASSERT_EQ(lines.size(), 2u) << frames.out;
+  EXPECT_GT(lines[0]["tick"].get<std::uint64_t>(), applied);
+  EXPECT_GT(body_of(lines[1], 0)["position"][0].get<double>(), body_of(lines[0], 0)["position"][0].get<double>())
+      << frames.out;
 }
 
 // A real tumbled serving world "lab" (kFloatingScene: no gravity, the crate

@@ -35,14 +35,15 @@ std::string nats_server_path() {
   return "";
 }
 
-NatsServerProcess::NatsServerProcess(std::string config, std::uint16_t port, std::uint16_t cluster_port,
+NatsServerProcess::NatsServerProcess(NatsConfig config, std::uint16_t port, std::uint16_t cluster_port,
                                      std::vector<std::uint16_t> routes)
     : dir_(make_temp_dir()),
       config_path_(dir_ + "/nats.conf"),
+      env_(std::move(config.env)),
       port_(port != 0 ? port : free_loopback_port()),
       cluster_port_(cluster_port),
       routes_(std::move(routes)) {
-  std::ofstream(config_path_) << config << "\n";
+  std::ofstream(config_path_) << config.text << "\n";
 }
 
 NatsServerProcess::~NatsServerProcess() { kill(); }
@@ -53,6 +54,7 @@ bool NatsServerProcess::start(std::chrono::milliseconds timeout) {
   kill();
   // A log of its own for each run: "Server is ready" is then this run's.
   log_path_ = dir_ + "/nats-" + std::to_string(++runs_) + ".log";
+  out_path_ = dir_ + "/nats-" + std::to_string(runs_) + ".out";
   std::vector<std::string> argv = {nats_server_path(),    "-c", config_path_, "-a", "127.0.0.1", "-p",
                                    std::to_string(port_), "-l", log_path_};
   if (cluster_port_ != 0) {
@@ -65,7 +67,7 @@ bool NatsServerProcess::start(std::chrono::milliseconds timeout) {
     }
     if (!routes.empty()) argv.insert(argv.end(), {"--routes", routes});
   }
-  process_ = std::make_unique<ChildProcess>(argv, dir_ + "/nats-" + std::to_string(runs_) + ".out");
+  process_ = std::make_unique<ChildProcess>(argv, out_path_, env_);
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (std::chrono::steady_clock::now() < deadline && process_->running()) {
     if (log().find("Server is ready") != std::string::npos) return true;
@@ -81,7 +83,7 @@ void NatsServerProcess::kill() {
   process_.reset();
 }
 
-NatsCluster::NatsCluster(const std::string& config) {
+NatsCluster::NatsCluster(const NatsConfig& config) {
   const std::uint16_t cluster_ports[3] = {free_loopback_port(), free_loopback_port(), free_loopback_port()};
   for (std::size_t i = 0; i < 3; ++i) {
     std::vector<std::uint16_t> routes;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "process.h"
@@ -19,13 +20,24 @@ namespace tumble::test {
 // read back and released).
 std::uint16_t free_loopback_port();
 
+// A node's configuration: the text of its configuration file, and what
+// nats-server's environment has for the file's $VARIABLE references
+// ("NAME=VALUE" each; docker/nats/auth.conf reads its passwords so).
+struct NatsConfig {
+  // Implicit: a string, or a literal, is a configuration without variables.
+  NatsConfig(std::string file_text = "", std::vector<std::string> variables = {})
+      : text(std::move(file_text)), env(std::move(variables)) {}
+  NatsConfig(const char* file_text) : NatsConfig(std::string(file_text)) {}
+  std::string text;
+  std::vector<std::string> env;
+};
+
 class NatsServerProcess {
  public:
-  // Prepares a node on 127.0.0.1:`port` (0: a free port) whose configuration
-  // file holds `config` (may be empty) and that joins the cluster listening
-  // on `cluster_port` with routes to `routes` (0 and empty: no cluster).
-  // Nothing runs before start().
-  explicit NatsServerProcess(std::string config = "", std::uint16_t port = 0, std::uint16_t cluster_port = 0,
+  // Prepares a node on 127.0.0.1:`port` (0: a free port) with `config` (may
+  // be empty) that joins the cluster listening on `cluster_port` with routes
+  // to `routes` (0 and empty: no cluster). Nothing runs before start().
+  explicit NatsServerProcess(NatsConfig config = {}, std::uint16_t port = 0, std::uint16_t cluster_port = 0,
                              std::vector<std::uint16_t> routes = {});
   ~NatsServerProcess();
   NatsServerProcess(const NatsServerProcess&) = delete;
@@ -42,14 +54,17 @@ class NatsServerProcess {
   std::uint16_t cluster_port() const { return cluster_port_; }
   // nats://127.0.0.1:PORT
   std::string url() const;
-  // The log of the current (or last) run.
-  std::string log() const { return read_file(log_path_); }
+  // The log of the current (or last) run, then what the process printed
+  // (a configuration it refused is said there, before any log).
+  std::string log() const { return read_file(log_path_) + read_file(out_path_); }
   const std::string& dir() const { return dir_; }
 
  private:
   std::string dir_;
   std::string config_path_;
+  std::vector<std::string> env_;
   std::string log_path_;
+  std::string out_path_;
   std::uint16_t port_;
   std::uint16_t cluster_port_;
   std::vector<std::uint16_t> routes_;
@@ -60,7 +75,7 @@ class NatsServerProcess {
 // Three nodes routed to one another on 127.0.0.1, each with `config`.
 class NatsCluster {
  public:
-  explicit NatsCluster(const std::string& config = "");
+  explicit NatsCluster(const NatsConfig& config = {});
   // Starts every node and waits until each is ready and sees both others as
   // routes; false otherwise.
   bool start(std::chrono::milliseconds timeout = std::chrono::seconds(30));

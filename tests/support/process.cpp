@@ -29,7 +29,22 @@ int decode_status(int status) {
   return -1;
 }
 
-pid_t spawn(const std::vector<std::string>& argv, const std::string& out_path, const std::string& err_path) {
+// The test's environment with `env` ("NAME=VALUE" each) put over it.
+std::vector<std::string> merged_environment(const std::vector<std::string>& env) {
+  std::vector<std::string> out;
+  const auto name_of = [](const std::string& entry) { return entry.substr(0, entry.find('=')); };
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    const std::string inherited = *entry;
+    bool replaced = false;
+    for (const std::string& given : env) replaced = replaced || name_of(given) == name_of(inherited);
+    if (!replaced) out.push_back(inherited);
+  }
+  out.insert(out.end(), env.begin(), env.end());
+  return out;
+}
+
+pid_t spawn(const std::vector<std::string>& argv, const std::string& out_path, const std::string& err_path,
+            const std::vector<std::string>& env = {}) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
@@ -37,7 +52,9 @@ pid_t spawn(const std::vector<std::string>& argv, const std::string& out_path, c
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
   pid_t pid = -1;
   auto args = c_argv(argv);
-  if (posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ) != 0) pid = -1;
+  const std::vector<std::string> environment = merged_environment(env);
+  auto envp = c_argv(environment);
+  if (posix_spawn(&pid, args[0], &actions, nullptr, args.data(), env.empty() ? environ : envp.data()) != 0) pid = -1;
   posix_spawn_file_actions_destroy(&actions);
   return pid;
 }
@@ -90,13 +107,14 @@ CommandResult run_command(const std::vector<std::string>& argv, std::chrono::mil
   return result;
 }
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path)
-    : ChildProcess(argv, log_path, log_path) {}
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path,
+                           const std::vector<std::string>& env)
+    : ChildProcess(argv, log_path, log_path, env) {}
 
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& out_path,
-                           const std::string& err_path) {
+                           const std::string& err_path, const std::vector<std::string>& env) {
   if (argv.empty() || out_path.empty() || err_path.empty()) return;
-  pid_ = spawn(argv, out_path, err_path);
+  pid_ = spawn(argv, out_path, err_path, env);
 }
 
 ChildProcess::~ChildProcess() {

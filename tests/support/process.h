@@ -25,10 +25,14 @@ CommandResult run_command(const std::vector<std::string>& argv,
 // A process that runs while the test does. The destructor kills it.
 class ChildProcess {
  public:
-  // Starts `argv` with stdout and stderr appended to `log_path`.
-  ChildProcess(const std::vector<std::string>& argv, const std::string& log_path);
+  // Starts `argv` with stdout and stderr appended to `log_path`, in the
+  // test's environment with `env` ("NAME=VALUE" each) added or replacing
+  // what the test has under those names.
+  ChildProcess(const std::vector<std::string>& argv, const std::string& log_path,
+               const std::vector<std::string>& env = {});
   // Starts `argv` with stdout appended to `out_path` and stderr to `err_path`.
-  ChildProcess(const std::vector<std::string>& argv, const std::string& out_path, const std::string& err_path);
+  ChildProcess(const std::vector<std::string>& argv, const std::string& out_path, const std::string& err_path,
+               const std::vector<std::string>& env = {});
   ~ChildProcess();
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

@@ -1,6 +1,6 @@
 // A real nats-server on ephemeral ports of 127.0.0.1 with a WebSocket
 // listener (the `websocket` block the viewer connects through), for the
-// viewer's tests; users and permissions as docker/nats/auth.conf gives them.
+// viewer's tests; users and permissions from docker/nats/auth.conf itself.
 //
 //   const nats = await startNatsServer();
 //   ... nats.url (nats://127.0.0.1:PORT), nats.wsUrl (ws://127.0.0.1:PORT) ...
@@ -22,22 +22,20 @@ export const kUsers = {
   tumbled: { user: "tumbled", pass: "tumbled-test" },
 };
 
+// The users and permissions as the docs and the image ship them, read from
+// the source tree; nats-server reads their passwords from its environment.
+const kAuthConf = new URL("../../docker/nats/auth.conf", import.meta.url);
+const kPasswordEnv = {
+  TUMBLE_NATS_OBSERVER_PASSWORD: kUsers.observer.pass,
+  TUMBLE_NATS_CONTROLLER_PASSWORD: kUsers.controller.pass,
+  TUMBLE_NATS_TUMBLED_PASSWORD: kUsers.tumbled.pass,
+};
+
 const kConfig = (dir) => `
 listen: "127.0.0.1:-1"
 ports_file_dir: "${dir}"
 websocket { listen: "127.0.0.1:-1", no_tls: true }
-authorization {
-  users = [
-    { user: ${kUsers.observer.user}, password: ${kUsers.observer.pass}, permissions: {
-        publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query"],
-        subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
-    { user: ${kUsers.controller.user}, password: ${kUsers.controller.pass}, permissions: {
-        publish: ["tumble.v1.worlds", "tumble.v1.*.key.>", "tumble.v1.*.query", "tumble.v1.*.rpc"],
-        subscribe: ["tumble.v1.*.poses.>", "tumble.v1.*.events", "_INBOX.>"] } }
-    { user: ${kUsers.tumbled.user}, password: ${kUsers.tumbled.pass}, permissions: {
-        publish: ["tumble.v1.>", "_INBOX.>"], subscribe: ["tumble.v1.>", "_INBOX.>"] } }
-  ]
-}
+${fs.readFileSync(kAuthConf, "utf8")}
 `;
 
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
@@ -62,7 +60,8 @@ export async function startNatsServer() {
   fs.writeFileSync(configFile, kConfig(dir));
   const logFile = path.join(dir, "nats.log");
   const log = fs.openSync(logFile, "w");
-  const child = spawn(binary, ["-c", configFile], { stdio: ["ignore", log, log] });
+  const child = spawn(binary, ["-c", configFile],
+                      { stdio: ["ignore", log, log], env: { ...process.env, ...kPasswordEnv } });
   fs.closeSync(log);
   let exitCode = null;
   const exited = new Promise((resolve) => child.on("exit", (code, signal) => {

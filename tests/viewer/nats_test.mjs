@@ -133,9 +133,10 @@ class FakeWorld {
         ++this.keyRequests;
         return { poseFrame: this.frame(true, this.sequence) };
       }) }),
-      nc.subscribe(`tumble.v1.${name}.rpc`, { callback: answer }),
+      // In tumbled's queue group, the only way docker/nats/auth.conf lets the tumbled user read .rpc and .query.
+      nc.subscribe(`tumble.v1.${name}.rpc`, { queue: `tumble.${name}.rpc`, callback: answer }),
     ];
-    if (query) this.subscriptions.push(nc.subscribe(`tumble.v1.${name}.query`, { callback: answer }));
+    if (query) this.subscriptions.push(nc.subscribe(`tumble.v1.${name}.query`, { queue: `tumble.${name}.rpc`, callback: answer }));
   }
 
   // The state at the current sequence: every body (key) or those changed since the previous frame.
@@ -236,9 +237,11 @@ test("packed poses decode to the bytes' grid values, and malformed bytes are ref
 });
 
 test("the world is found by name among the worlds that answer", async () => {
-  const server = await connectAs("tumbled");
-  const demo = new FakeWorld(server, "demo");
-  const other = new FakeWorld(server, "other");
+  // A connection for each world, as each tumbled has its own: NATS lets the
+  // tumbled user send one reply to a request per connection.
+  const servers = [await connectAs("tumbled"), await connectAs("tumbled")];
+  const demo = new FakeWorld(servers[0], "demo");
+  const other = new FakeWorld(servers[1], "other");
   const page = await connectAs("observer");
   try {
     const names = (await listWorlds(page, types)).map((w) => w.world).sort();
@@ -253,7 +256,7 @@ test("the world is found by name among the worlds that answer", async () => {
     demo.close();
     other.close();
     await page.close();
-    await server.close();
+    for (const server of servers) await server.close();
   }
   const alone = await connectAs("observer");
   await assert.rejects(findWorld(alone, types, "demo"), /\(no world answered\)/);
