@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
     world_config.world = options.world;
     world_config.streams = options.nats_streams;
     world_config.key_interval_s = options.nats_key_interval_seconds;
+    world_config.rest_key_interval_s = options.nats_rest_key_interval_seconds;
     world_config.sleep_events = options.nats_sleep_events;
     world_config.version = tumble::kVersion;
     nats_world = std::make_unique<tumble::nats::NatsWorld>(sim, *nats_link, world_config, *log);

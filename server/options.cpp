@@ -183,6 +183,13 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
       ->capture_default_str()
       ->check(CLI::Range(0.01, 3600.0))
       ->needs(nats_option);
+  auto* rest_key_interval_option =
+      app.add_option("--nats-rest-key-interval", options.nats_rest_key_interval_seconds,
+                     "Seconds of sim time between key frames of a delta stream over NATS while nothing moves (a "
+                     "reader that joins then asks for one); at least --nats-key-interval")
+          ->capture_default_str()
+          ->check(CLI::Range(0.01, 3600.0))
+          ->needs(nats_option);
   app.add_option("--nats-creds", options.nats_creds_path, "A NATS .creds file (JWT and NKey seed) to connect with")
       ->needs(nats_option);
   app.add_flag("--nats-sleep-events", options.nats_sleep_events,
@@ -241,6 +248,14 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
         if (other.name == stream.name) return usage_error("--nats-stream: two streams are named '" + stream.name + "'");
       }
       options.nats_streams.push_back(std::move(stream));
+    }
+    if (rest_key_interval_option->count() == 0) {
+      options.nats_rest_key_interval_seconds =
+          std::max(options.nats_rest_key_interval_seconds, options.nats_key_interval_seconds);
+    } else if (options.nats_rest_key_interval_seconds < options.nats_key_interval_seconds) {
+      return usage_error(
+          "--nats-rest-key-interval must be at least --nats-key-interval: at rest key frames come "
+          "less often, not more");
     }
     if (!options.nats_creds_path.empty() && !std::ifstream(options.nats_creds_path)) {
       return usage_error("--nats-creds: cannot read '" + options.nats_creds_path + "'");

@@ -82,6 +82,7 @@ struct ServerOptions {
   std::string world;                           // --world: required with --nats (nats/stream_spec.h)
   std::vector<nats::StreamSpec> nats_streams;  // --nats-stream, repeatable; default q60=quantized@60
   double nats_key_interval_seconds = 1;        // --nats-key-interval, s: 0.01 to 3600
+  double nats_rest_key_interval_seconds = 30;  // --nats-rest-key-interval, s: key interval to 3600
   std::string nats_creds_path;                 // --nats-creds: a .creds file, readable
   bool nats_sleep_events = false;              // --nats-sleep-events
 

@@ -39,7 +39,8 @@ bool is_sleep_event(sim::WorldEventKind kind) {
 NatsWorld::NatsWorld(sim::Simulation& sim, NatsLink& link, NatsWorldConfig config, spdlog::logger& log)
     : sim_(sim), link_(link), config_(std::move(config)), log_(log), server_id_(random_server_id()) {
   for (const StreamSpec& spec : config_.streams) {
-    streams_.emplace_back(spec, poses_subject(config_.world, spec.name), config_.key_interval_s);
+    streams_.emplace_back(spec, poses_subject(config_.world, spec.name), config_.key_interval_s,
+                          config_.rest_key_interval_s);
   }
 }
 
@@ -122,7 +123,10 @@ tumble::v1::WorldInfo NatsWorld::world_info() const {
     stream.set_encoding(spec.encoding);
     stream.set_rate_hz(spec.rate_hz);
     stream.set_fields(spec.velocities ? tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY : tumble::v1::POSE_FIELDS_POSE);
-    if (spec.encoding == tumble::v1::POSE_ENCODING_DELTA) stream.set_key_interval_s(config_.key_interval_s);
+    if (spec.encoding == tumble::v1::POSE_ENCODING_DELTA) {
+      stream.set_key_interval_s(config_.key_interval_s);
+      stream.set_rest_key_interval_s(config_.rest_key_interval_s);
+    }
   }
   info.set_events_subject(events_subject(config_.world));
   info.set_rpc_subject(rpc_subject(config_.world));
@@ -188,6 +192,7 @@ void NatsWorld::publish_frame(Stream& stream, const sim::Snapshot& snapshot) {
         frames::fill_delta_key(bodies, velocities, &frame);
       } else {
         frames::fill_delta_change(stream.latest_bodies, bodies, velocities, &frame, &stream.changed);
+        if (!stream.changed.empty() || frame.removed_ids_size() > 0) stream.planner.changed();
       }
       stream.latest_bodies = std::move(bodies);
       break;

@@ -3,7 +3,8 @@
 //  - tumble.v1.<world>.poses.<stream>: each configured stream's frames,
 //    published once whatever the audience, numbered by `sequence`
 //    (nats/sequence_planner.h); a DELTA stream's frames are changes from
-//    the previous one, with a key frame every key_interval_s.
+//    the previous one, with a key frame every key_interval_s (every
+//    rest_key_interval_s while nothing changes).
 //  - tumble.v1.<world>.key.<stream>: answered with the stream's latest
 //    frame, whole (a DELTA stream's as a key frame of the same sequence).
 //  - tumble.v1.<world>.events: each world event, one a message.
@@ -56,6 +57,7 @@ struct NatsWorldConfig {
   std::string world;                // checked by check_world_name
   std::vector<StreamSpec> streams;  // unique names, at least one
   double key_interval_s = 1;        // > 0
+  double rest_key_interval_s = 30;  // >= key_interval_s: between key frames while nothing changes
   bool sleep_events = false;        // also publish bodies falling asleep and waking
   std::string version;              // tumbled's, for WorldInfo
   // Most events and replies waiting for the publisher's thread; beyond,
@@ -84,8 +86,8 @@ class NatsWorld {
  private:
   // One configured stream and the state of its numbering.
   struct Stream {
-    Stream(StreamSpec spec_in, std::string subject_in, double key_interval_s)
-        : spec(std::move(spec_in)), subject(std::move(subject_in)), planner(key_interval_s) {}
+    Stream(StreamSpec spec_in, std::string subject_in, double key_interval_s, double rest_key_interval_s)
+        : spec(std::move(spec_in)), subject(std::move(subject_in)), planner(key_interval_s, rest_key_interval_s) {}
     StreamSpec spec;
     std::string subject;
     std::uint32_t period_ticks = 1;

@@ -72,6 +72,7 @@ TEST_F(NatsWorld, TheWorldsRequestIsAnsweredWithItsStreamsAndSubjects) {
   EXPECT_EQ(info.streams(0).fields(), tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
   EXPECT_EQ(info.streams(1).encoding(), tumble::v1::POSE_ENCODING_DELTA);
   EXPECT_DOUBLE_EQ(info.streams(1).key_interval_s(), 1.0);
+  EXPECT_DOUBLE_EQ(info.streams(1).rest_key_interval_s(), 30.0);
 }
 
 TEST_F(NatsWorld, AForceOverRpcIsAckedAndMovesTheBodyInTheNextFullFrame) {
@@ -171,14 +172,24 @@ TEST_F(NatsWorld, ListBodiesOverRpcIsPaged) {
   EXPECT_NE(second.body_list().bodies(0).id(), first.body_list().bodies(0).id());
 }
 
-TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheInterval) {
-  auto tumbled =
-      start_tumbled({"--nats-stream", "q=quantized@60", "--nats-stream", "d=delta@60", "--nats-key-interval", "0.25"});
+TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheRestIntervalThenAtTheMovingOne) {
+  // The floating scene is at rest (no gravity) until the force.
+  auto tumbled = start_tumbled({"--nats-stream", "q=quantized@60", "--nats-stream", "d=delta@60", "--nats-key-interval",
+                                "0.25", "--nats-rest-key-interval", "1"});
   NatsTestClient client(nats_.url());
   auto quantized = client.subscribe("tumble.v1.lab.poses.q");
   auto delta = client.subscribe("tumble.v1.lab.poses.d");
   ASSERT_TRUE(quantized && delta);
-  ASSERT_TRUE(delta->wait_count(60));
+  // 2.5 s of sim time at rest, then a push that leaves the crate drifting.
+  ASSERT_TRUE(delta->wait_count(150));
+  const ServerMessage ack = parse(*client.request("tumble.v1.lab.rpc", force_request("crate", 100, 1)));
+  ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
+  const std::uint64_t pushed = ack.ack().applied_tick();
+  // Frames until 2 s of sim time after the ack.
+  const double push_time = parse(delta->messages().back().data).pose_frame().sim_time();
+  ASSERT_TRUE(delta->wait([&](const std::vector<NatsMessage>& messages) {
+    return parse(messages.back().data).pose_frame().sim_time() >= push_time + 2;
+  }));
   for (auto* collector : {quantized.get(), delta.get()}) {
     const std::vector<NatsMessage> messages = collector->messages();
     for (std::size_t i = 1; i < messages.size(); ++i) {
@@ -186,22 +197,29 @@ TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheInter
                 parse(messages[i - 1].data).pose_frame().sequence() + 1);
     }
   }
-  // Key frames at least every 0.25 s of sim time, and not every frame.
-  std::vector<double> key_times;
+  // Key frames 1 s of sim time apart before the push, 0.25 s apart after it.
+  std::vector<double> resting_keys;
+  std::vector<double> moving_keys;
   std::size_t changes = 0;
   for (const NatsMessage& m : delta->messages()) {
     const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
     EXPECT_EQ(frame.encoding(), tumble::v1::POSE_ENCODING_DELTA);
-    if (frame.key_frame()) {
-      key_times.push_back(frame.sim_time());
-    } else {
+    if (!frame.key_frame()) {
       ++changes;
+    } else if (frame.tick() <= pushed) {
+      resting_keys.push_back(frame.sim_time());
+    } else {
+      moving_keys.push_back(frame.sim_time());
     }
   }
-  ASSERT_GE(key_times.size(), 2u);
-  EXPECT_GT(changes, key_times.size());
-  for (std::size_t i = 1; i < key_times.size(); ++i) {
-    EXPECT_NEAR(key_times[i] - key_times[i - 1], 0.25, 1.0 / 60 + 1e-9);
+  ASSERT_GE(resting_keys.size(), 2u);
+  ASSERT_GE(moving_keys.size(), 5u);
+  EXPECT_GT(changes, resting_keys.size() + moving_keys.size());
+  for (std::size_t i = 1; i < resting_keys.size(); ++i) {
+    EXPECT_NEAR(resting_keys[i] - resting_keys[i - 1], 1.0, 1.0 / 60 + 1e-9);
+  }
+  for (std::size_t i = 1; i < moving_keys.size(); ++i) {
+    EXPECT_NEAR(moving_keys[i] - moving_keys[i - 1], 0.25, 1.0 / 60 + 1e-9);
   }
 }
 

@@ -50,21 +50,38 @@ TEST(StreamSpec, EachBadPartIsNamed) {
   }
 }
 
-TEST(SequencePlanner, NumbersFromOneWithAKeyFrameFirstAndThenEveryInterval) {
-  SequencePlanner planner(0.25);
+TEST(SequencePlanner, NumbersFromOneWithAKeyFrameFirstAndThenEveryIntervalWhileBodiesMove) {
+  SequencePlanner planner(0.25, 30);
   const double dt = 1.0 / 60;
   std::vector<std::uint64_t> keys;
   for (int i = 0; i < 60; ++i) {
     const SequencePlanner::Frame frame = planner.next(i * dt);
     EXPECT_EQ(frame.sequence, static_cast<std::uint64_t>(i + 1));
     if (frame.key) keys.push_back(frame.sequence);
+    planner.changed();
   }
   // 0.25 s at 60 Hz is 15 frames: keys at sequences 1, 16, 31, 46.
   EXPECT_EQ(keys, (std::vector<std::uint64_t>{1, 16, 31, 46}));
 }
 
+TEST(SequencePlanner, AtRestTheKeyFrameWaitsTheRestIntervalAndAChangeBringsItBackToTheShortOne) {
+  SequencePlanner planner(0.25, 2);
+  const double dt = 1.0 / 60;
+  std::vector<std::uint64_t> keys;
+  for (int i = 0; i < 300; ++i) {
+    const SequencePlanner::Frame frame = planner.next(i * dt);
+    if (frame.key) keys.push_back(frame.sequence);
+    // One body moves in the frame of sequence 150 (t = 149/60 s), nothing else.
+    if (frame.sequence == 150) planner.changed();
+  }
+  // At rest, keys 2 s apart (121 frames after 1); the change at 150 makes
+  // the next key due 0.25 s after the last one (121, t = 2 s): at 151,
+  // the frame after the change. Then rest again: 2 s after 151.
+  EXPECT_EQ(keys, (std::vector<std::uint64_t>{1, 121, 151, 271}));
+}
+
 TEST(SequencePlanner, AFrameNotPublishedMakesTheNextAKeyFrame) {
-  SequencePlanner planner(10);
+  SequencePlanner planner(10, 10);
   EXPECT_TRUE(planner.next(0).key);
   EXPECT_FALSE(planner.next(0.1).key);
   planner.lost();

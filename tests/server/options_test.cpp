@@ -287,6 +287,7 @@ TEST_F(ServerOptionsTest, NatsFlagsParseWithTheirDefaults) {
   EXPECT_EQ(options.nats_streams[0].name, "q60");
   EXPECT_EQ(options.nats_streams[0].encoding, tumble::v1::POSE_ENCODING_QUANTIZED);
   EXPECT_DOUBLE_EQ(options.nats_key_interval_seconds, 1);
+  EXPECT_DOUBLE_EQ(options.nats_rest_key_interval_seconds, 30);
   const ServerOptions many =
       options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-stream", "f=full@30:all", "--nats-stream",
                   "d=delta@60", "--nats-key-interval", "0.5", "--listen", "none"});
@@ -294,6 +295,13 @@ TEST_F(ServerOptionsTest, NatsFlagsParseWithTheirDefaults) {
   EXPECT_EQ(many.nats_streams[1].encoding, tumble::v1::POSE_ENCODING_DELTA);
   EXPECT_DOUBLE_EQ(many.nats_key_interval_seconds, 0.5);
   EXPECT_FALSE(many.serve_tcp);
+  // A key interval longer than the default rest interval carries it along.
+  EXPECT_DOUBLE_EQ(options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-key-interval", "60"})
+                       .nats_rest_key_interval_seconds,
+                   60);
+  EXPECT_DOUBLE_EQ(options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-rest-key-interval", "5"})
+                       .nats_rest_key_interval_seconds,
+                   5);
 }
 
 TEST_F(ServerOptionsTest, BadNatsValuesAreOneLineNamingTheFlag) {
@@ -310,6 +318,10 @@ TEST_F(ServerOptionsTest, BadNatsValuesAreOneLineNamingTheFlag) {
                 .find("--nats-creds"),
             std::string::npos);
   EXPECT_NE(usage_error({"--nats", "http://a:4222", "--world", "w"}).find("--nats"), std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-key-interval", "2",
+                         "--nats-rest-key-interval", "1"})
+                .find("--nats-rest-key-interval must be at least --nats-key-interval"),
+            std::string::npos);
   EXPECT_NE(usage_error({"--listen", "none"}).find("--nats"), std::string::npos);
   EXPECT_NE(usage_error({"--world", "w"}).find("--nats"), std::string::npos);
 }
