@@ -64,8 +64,10 @@ struct Options {
   double rate_hz = 60;
   std::string encoding = "delta";
   double key_interval_s = 1;
+  double rest_key_interval_s = 30;
   double seconds = 20;
   bool settle = false;
+  bool no_latency = false;
   unsigned spawners = 16;
   int subscriber_nice = 10;
   bool subscriber_idle = false;
@@ -182,10 +184,16 @@ int main(int argc, char** argv) {
                  "tumbled --nats-key-interval: sim seconds between key frames")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 3600.0));
+  app.add_option("--rest-key-interval", options.rest_key_interval_s,
+                 "tumbled --nats-rest-key-interval: the same while nothing moves (raised to --key-interval)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 3600.0));
   app.add_option("--seconds", options.seconds, "D: measured seconds")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 86400.0));
   app.add_flag("--settle", options.settle, "Measure once the bodies that come to rest are asleep");
+  app.add_flag("--no-latency", options.no_latency,
+               "Move no probe and measure no latency, so that a world at rest stays at rest for the window");
   app.add_option("--spawners", options.spawners, "Connections that spawn the world at once")
       ->capture_default_str()
       ->check(CLI::Range(1u, 256u));
@@ -223,7 +231,9 @@ int main(int argc, char** argv) {
       "--nats-stream",
       std::string(kStream) + "=" + options.encoding + "@" + number_text(options.rate_hz),
       "--nats-key-interval",
-      number_text(options.key_interval_s)};
+      number_text(options.key_interval_s),
+      "--nats-rest-key-interval",
+      number_text(std::max(options.rest_key_interval_s, options.key_interval_s))};
   tumbled_argv.insert(tumbled_argv.end(), options.tumbled_args.begin(), options.tumbled_args.end());
   tumble::bench::ChildProcess tumbled(tumbled_argv, tumbled_log);
   if (!tumbled.started()) fail("cannot start " + options.tumbled);
@@ -275,10 +285,11 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
   }
-  // Every subscription holds a whole frame: the stream's next key frame.
-  const Clock::time_point give_up =
-      Clock::now() + std::chrono::seconds(20) +
-      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.key_interval_s));
+  // Every subscription holds a whole frame: the stream's next key frame,
+  // which a world at rest sends only every rest interval.
+  const Clock::time_point give_up = Clock::now() + std::chrono::seconds(20) +
+                                    std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(
+                                        std::max(options.rest_key_interval_s, options.key_interval_s)));
   while (fanout->ready() < options.subscribers && Clock::now() < give_up) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
@@ -297,8 +308,10 @@ int main(int argc, char** argv) {
   const Clock::time_point end =
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
   wall_window.set(start, end);
-  const tumble::bench::LatencyResult latency = tumble::bench::measure_latency_over(
-      controller, watcher, world.probe, tumble::bench::ProbeSignal::position, start, end);
+  const tumble::bench::LatencyResult latency =
+      options.no_latency ? tumble::bench::LatencyResult{}
+                         : tumble::bench::measure_latency_over(controller, watcher, world.probe,
+                                                               tumble::bench::ProbeSignal::position, start, end);
   std::this_thread::sleep_until(end);
   tumble::v1::Stats after = stats_or_exit(controller);
   // Until the server has stepped the last measured tick (it may be behind its clock).
@@ -359,7 +372,7 @@ int main(int argc, char** argv) {
   };
   std::printf(
       "transport=nats world=%s encoding=%s subscribers=%u connections=%u bodies=%u rate_hz=%g tick_rate_hz=%g "
-      "seconds=%g key_interval_s=%g subscribers_ready=%u "
+      "seconds=%g key_interval_s=%g rest_key_interval_s=%g subscribers_ready=%u "
       "bytes_per_body_frame=%.2f kbit_per_s_per_subscriber=%.1f wire_kbit_per_s_per_subscriber=%.1f "
       "frames=%llu frames_expected=%.0f frames_min_percent=%.1f frames_mean_percent=%.2f frames_shown=%llu "
       "frames_handled_per_s=%.0f "
@@ -370,7 +383,8 @@ int main(int argc, char** argv) {
       "tick_late_ms_p99=%.2f nats_frames_dropped=%llu tumbled_nats_messages_out=%llu tumbled_nats_kbit_per_s=%.1f "
       "server_cpu_percent=%s nats_cpu_percent=%s nats_cpu_percent_nodes=%s load_cpu_percent=%s errors=%llu\n",
       options.world.c_str(), options.encoding.c_str(), options.subscribers, fanout_options.connections, options.bodies,
-      options.rate_hz, after.tick_rate_hz(), options.seconds, options.key_interval_s, ready,
+      options.rate_hz, after.tick_rate_hz(), options.seconds, options.key_interval_s,
+      std::max(options.rest_key_interval_s, options.key_interval_s), ready,
       total.body_slots > 0 ? static_cast<double>(total.bytes) / static_cast<double>(total.body_slots) : 0.0,
       kbit_per_s(total.bytes), kbit_per_s(total.wire_bytes), static_cast<unsigned long long>(total.frames),
       expected_each * subscribers, 100 * min_frames / expected_each,
