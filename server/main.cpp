@@ -12,6 +12,7 @@
 
 #include "cpu_keep_awake.h"
 #include "nats/nats_link.h"
+#include "nats/nats_state_store.h"
 #include "nats/nats_world.h"
 #include "net/asio.h"
 #include "net/server.h"
@@ -98,8 +99,58 @@ int main(int argc, char** argv) {
   auto log = spdlog::stderr_color_mt("tumbled");
   log_access(options.tokens, *log);
 
+  // The NATS link comes up before the world: with --nats-state the world's
+  // checkpoint is in the cluster. It connects (or keeps trying) in the
+  // background.
+  std::optional<tumble::nats::NatsLibraryScope> nats_library;
+  std::unique_ptr<tumble::nats::NatsLink> nats_link;
+  std::unique_ptr<tumble::nats::NatsStateStore> state_store;
+  tumble::server::KeptState kept;
+  if (!options.nats_urls.empty()) {
+    nats_library.emplace();
+    tumble::nats::NatsLinkConfig link_config;
+    link_config.urls = options.nats_urls;
+    link_config.creds_file = options.nats_creds_path;
+    link_config.name = "tumbled " + options.world;
+    nats_link = std::make_unique<tumble::nats::NatsLink>(link_config, *log);
+    if (auto status = nats_link->start(); !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+  }
+  if (options.nats_state) {
+    tumble::nats::NatsStateStoreConfig store_config;
+    store_config.bucket = options.nats_bucket;
+    store_config.key = options.world;
+    store_config.replicas = options.nats_replicas;
+    state_store = std::make_unique<tumble::nats::NatsStateStore>(*nats_link, store_config, *log);
+    if (auto status = state_store->open(); !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+    tumble::nats::StoredState stored;
+    if (auto status = state_store->load(&stored); !status.ok()) {
+      if (!options.nats_state_reset) {
+        log->error(
+            "{}; tumbled does not start the world empty in its place: --nats-state-reset starts it from the "
+            "scene and replaces the value at the first checkpoint",
+            tumble::sim::log_text(status.message(), tumble::sim::kLogMessageBytes));
+        return kExitFailure;
+      }
+      log->warn("{}; --nats-state-reset: starting from the scene",
+                tumble::sim::log_text(status.message(), tumble::sim::kLogMessageBytes));
+    } else if (stored.found) {
+      kept.saved = std::move(stored.state);
+      kept.from = state_store->where() + " (revision " + std::to_string(stored.revision) + ")";
+    }
+    kept.destination = state_store->where();
+    tumble::nats::NatsStateStore* store = state_store.get();
+    kept.write = [store](const tumble::v1::WorldState& state) { return store->put(state); };
+  }
+
   tumble::server::ReadyWorld world;
-  if (auto status = tumble::server::start_world(options, *log, &world); !status.ok()) {
+  if (auto status = tumble::server::start_world(options, *log, &world, options.nats_state ? &kept : nullptr);
+      !status.ok()) {
     // The message may quote a scene, state or journal file.
     log->error("{}", tumble::sim::log_text(status.message(), tumble::sim::kLogMessageBytes));
     return kExitFailure;
@@ -135,17 +186,9 @@ int main(int argc, char** argv) {
   boost::asio::io_context io;
   std::optional<tumble::net::Server> server;
   if (options.serve_tcp) server.emplace(io, sim, server_config(options));
-  // The NATS side: connects (or keeps trying) in the background.
-  std::optional<tumble::nats::NatsLibraryScope> nats_library;
-  std::unique_ptr<tumble::nats::NatsLink> nats_link;
+  // The world's subjects on the NATS link.
   std::unique_ptr<tumble::nats::NatsWorld> nats_world;
-  if (!options.nats_urls.empty()) {
-    nats_library.emplace();
-    tumble::nats::NatsLinkConfig link_config;
-    link_config.urls = options.nats_urls;
-    link_config.creds_file = options.nats_creds_path;
-    link_config.name = "tumbled " + options.world;
-    nats_link = std::make_unique<tumble::nats::NatsLink>(link_config, *log);
+  if (nats_link) {
     tumble::nats::NatsWorldConfig world_config;
     world_config.world = options.world;
     world_config.streams = options.nats_streams;
@@ -154,10 +197,6 @@ int main(int argc, char** argv) {
     world_config.sleep_events = options.nats_sleep_events;
     world_config.version = tumble::kVersion;
     nats_world = std::make_unique<tumble::nats::NatsWorld>(sim, *nats_link, world_config, *log);
-    if (auto status = nats_link->start(); !status.ok()) {
-      log->error("{}", status.message());
-      return kExitFailure;
-    }
     if (auto status = nats_world->start(); !status.ok()) {
       log->error("{}", status.message());
       return kExitFailure;
@@ -204,6 +243,16 @@ int main(int argc, char** argv) {
       return kExitFailure;
     }
     log->info("saved the world at tick {} to {}", state.tick(), options.state_path);
+  }
+  if (state_store) {
+    tumble::v1::WorldState state;
+    sim.capture(&state);
+    if (auto status = state_store->put(state); !status.ok()) {
+      log->error("the world was not saved: {}", status.message());
+      return kExitFailure;
+    }
+    log->info("saved the world at tick {} to {} (revision {})", state.tick(), state_store->where(),
+              state_store->last_revision());
   }
   return kExitSuccess;
 }

@@ -192,11 +192,29 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
           ->needs(nats_option);
   app.add_option("--nats-creds", options.nats_creds_path, "A NATS .creds file (JWT and NKey seed) to connect with")
       ->needs(nats_option);
+  auto* nats_state_option =
+      app.add_flag("--nats-state", options.nats_state,
+                   "Keep the world's checkpoints in a JetStream key-value bucket under the world's name, every "
+                   "--checkpoint-interval (default 1 s here) and on SIGTERM/SIGINT, and resume from it at start "
+                   "(--scene only seeds a world the bucket has not)")
+          ->needs(nats_option);
+  app.add_option("--nats-bucket", options.nats_bucket, "The JetStream key-value bucket of --nats-state")
+      ->capture_default_str()
+      ->needs(nats_state_option);
+  app.add_option("--nats-replicas", options.nats_replicas,
+                 "Replicas of the bucket when tumbled makes it (1 to 5; default 3 on a cluster of three servers "
+                 "or more, else 1)")
+      ->check(CLI::Range(1, 5))
+      ->needs(nats_state_option);
+  app.add_flag("--nats-state-reset", options.nats_state_reset,
+               "Start from --scene when the bucket's value for the world is damaged or not a world (it is "
+               "replaced at the first checkpoint); without it tumbled refuses to start")
+      ->needs(nats_state_option);
   app.add_flag("--nats-sleep-events", options.nats_sleep_events,
                "Also publish bodies falling asleep and waking on tumble.v1.WORLD.events (a scan of the bodies "
                "after every step)")
       ->needs(nats_option);
-  checkpoint_option->needs("--state");
+  nats_state_option->excludes("--state");
   record_option->excludes(replay_option);
   app.set_version_flag("--version", kVersion);
 
@@ -223,6 +241,9 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
   }
   if (!options.tokens.controller.empty() && options.tokens.controller == options.tokens.observer) {
     return usage_error("--token and --observer-token must differ: a client's role is told by its token");
+  }
+  if (checkpoint_option->count() > 0 && options.state_path.empty() && !options.nats_state) {
+    return usage_error("--checkpoint-interval needs --state or --nats-state: somewhere to write the checkpoints");
   }
   if (listen == "none") {
     options.serve_tcp = false;
@@ -256,6 +277,10 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
       return usage_error(
           "--nats-rest-key-interval must be at least --nats-key-interval: at rest key frames come "
           "less often, not more");
+    }
+    if (options.nats_state) {
+      if (auto problem = nats::check_bucket_name(options.nats_bucket)) return usage_error(*problem);
+      if (checkpoint_option->count() == 0) options.checkpoint_interval_seconds = 1;
     }
     if (!options.nats_creds_path.empty() && !std::ifstream(options.nats_creds_path)) {
       return usage_error("--nats-creds: cannot read '" + options.nats_creds_path + "'");

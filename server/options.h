@@ -72,10 +72,12 @@ struct ServerOptions {
   net::AccessTokens tokens;
 
   // Persistence.
-  std::string state_path;                  // --state: resumed from when it exists, saved to on exit
-  double checkpoint_interval_seconds = 0;  // --checkpoint-interval, s: 0.01 to 86400, only with --state; 0: off
-  std::string record_path;                 // --record: the journal to write; never with --replay
-  std::string replay_path;                 // --replay: the journal to replay
+  std::string state_path;  // --state: resumed from when it exists, saved to on exit
+  // --checkpoint-interval, s: 0.01 to 86400, with --state (default 0: off)
+  // or --nats-state (default 1)
+  double checkpoint_interval_seconds = 0;
+  std::string record_path;  // --record: the journal to write; never with --replay
+  std::string replay_path;  // --replay: the journal to replay
 
   // A world served over NATS (off without --nats).
   std::vector<std::string> nats_urls;          // --nats URL[,URL...]: nats:// or tls://, credentials may be in the URL
@@ -85,6 +87,11 @@ struct ServerOptions {
   double nats_rest_key_interval_seconds = 30;  // --nats-rest-key-interval, s: key interval to 3600
   std::string nats_creds_path;                 // --nats-creds: a .creds file, readable
   bool nats_sleep_events = false;              // --nats-sleep-events
+  // The world's checkpoints in a JetStream bucket (nats/nats_state_store.h).
+  bool nats_state = false;                    // --nats-state; never with --state
+  std::string nats_bucket = "tumble_worlds";  // --nats-bucket: 1 to 64 of A-Z a-z 0-9 _ -
+  int nats_replicas = 0;                      // --nats-replicas: 1 to 5; 0: by the cluster's size
+  bool nats_state_reset = false;              // --nats-state-reset: a damaged value gives way to the scene
 
   // Scheduling and logging.
   int realtime_priority = 0;       // SCHED_FIFO priority, 1 to 99; 0: ordinary scheduling

@@ -42,8 +42,8 @@ sim::Status load_scene(const ServerOptions& options, tumble::v1::Scene* scene) {
 // Picks the journal's start, the state file (or the one it replaced, when
 // it is damaged) or the scene; `config`'s tick rate becomes the journal's
 // when it starts from a scene.
-sim::Status choose_origin(const ServerOptions& options, spdlog::logger& log, sim::JournalReader& replay,
-                          sim::SimConfig& config, Origin* origin) {
+sim::Status choose_origin(const ServerOptions& options, spdlog::logger& log, const KeptState* kept,
+                          sim::JournalReader& replay, sim::SimConfig& config, Origin* origin) {
   if (auto status = load_scene(options, &origin->scene); !status.ok()) return status;
   origin->name = options.scene_path.empty() ? std::string("no scene") : options.scene_path;
   if (!options.replay_path.empty()) {
@@ -79,6 +79,10 @@ sim::Status choose_origin(const ServerOptions& options, spdlog::logger& log, sim
     if (!status.ok()) return sim::Status::error("cannot resume: " + status.message());
     origin->resume = resumed.resumed;
     if (resumed.resumed) origin->name = resumed.from;
+  } else if (kept != nullptr && kept->saved) {
+    origin->saved = *kept->saved;
+    origin->resume = true;
+    origin->name = kept->from;
   }
   return {};
 }
@@ -103,7 +107,7 @@ sim::Status open_journal(const ServerOptions& options, const Origin& origin, sim
 
 }  // namespace
 
-sim::Status start_world(const ServerOptions& options, spdlog::logger& log, ReadyWorld* world) {
+sim::Status start_world(const ServerOptions& options, spdlog::logger& log, ReadyWorld* world, const KeptState* kept) {
   sim::SimConfig config;
   config.tick_rate_hz = options.tick_rate_hz;
   config.max_bodies = options.max_bodies;
@@ -115,7 +119,7 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
 
   sim::JournalReader replay;
   Origin origin;
-  if (auto status = choose_origin(options, log, replay, config, &origin); !status.ok()) return status;
+  if (auto status = choose_origin(options, log, kept, replay, config, &origin); !status.ok()) return status;
   if (!origin.resume && options.scene_path.empty() && options.replay_path.empty()) {
     log.warn("no --scene given: starting with an empty world");
   }
@@ -124,10 +128,19 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
     world->sim = std::move(origin.resumed);
   } else if (origin.resume) {
     if (auto status = sim::Simulation::create_from_state(origin.saved, config, &world->sim); !status.ok()) {
-      return sim::Status::error("cannot resume from " + origin.name + ": " + status.message());
+      const bool reset = kept != nullptr && options.nats_state_reset;
+      if (!reset) return sim::Status::error("cannot resume from " + origin.name + ": " + status.message());
+      // --nats-state-reset: the checkpoint gives way to the scene.
+      log.warn("--nats-state-reset: not resuming from {} ({}); starting from the scene", origin.name, status.message());
+      world->sim.reset();
+      origin.resume = false;
+      origin.name = options.scene_path.empty() ? std::string("no scene") : options.scene_path;
     }
-  } else if (auto status = sim::Simulation::create(origin.scene, config, &world->sim); !status.ok()) {
-    return sim::Status::error("invalid scene " + options.scene_path + ": " + status.message());
+  }
+  if (!world->sim) {
+    if (auto status = sim::Simulation::create(origin.scene, config, &world->sim); !status.ok()) {
+      return sim::Status::error("invalid scene " + options.scene_path + ": " + status.message());
+    }
   }
   sim::Simulation& simulation = *world->sim;
   log.info("tumbled {}: {} bodies from {}, at tick {}{}", kVersion, simulation.body_count(), origin.name,
@@ -162,6 +175,14 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
             std::chrono::duration<double>(options.checkpoint_interval_seconds)),
         [saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
     log.info("checkpointing the world to {} every {} s", options.state_path, options.checkpoint_interval_seconds);
+  } else if (kept != nullptr && options.checkpoint_interval_seconds > 0) {
+    world->checkpoints = std::make_unique<sim::StateSaver>(kept->destination, kept->write);
+    sim::StateSaver* saver = world->checkpoints.get();
+    simulation.set_checkpoints(
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(options.checkpoint_interval_seconds)),
+        [saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
+    log.info("checkpointing the world to {} every {} s", kept->destination, options.checkpoint_interval_seconds);
   }
   return {};
 }

@@ -1,8 +1,9 @@
 // Startup: from tumbled's options to a world ready to run.
 //
 // Chooses where the world starts: the start of the journal given to
-// --replay, else the --state file when it exists, else the --scene (or an
-// empty world with gravity). Loads and checks it, builds the simulation,
+// --replay, else the --state file when it exists, else the checkpoint
+// --nats-state found in its bucket, else the --scene (or an empty world
+// with gravity). Loads and checks it, builds the simulation,
 // replays the journal, opens the journal of --record and starts the
 // checkpoint writer of --checkpoint-interval. Logs each step on `log`;
 // stops at the first failure with a Status whose sentence names the file.
@@ -11,6 +12,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include <spdlog/logger.h>
 
@@ -31,8 +34,19 @@ struct ReadyWorld {
   std::unique_ptr<sim::StateSaver> checkpoints;  // with --state and --checkpoint-interval; else null
 };
 
-// Fills `world` from `options` (already checked by parse_server_options).
-// On failure `world` holds what was made before it.
-sim::Status start_world(const ServerOptions& options, spdlog::logger& log, ReadyWorld* world);
+// Where --nats-state keeps the world: the checkpoint read at start, and
+// what writes new ones. Read before the world is built.
+struct KeptState {
+  std::optional<tumble::v1::WorldState> saved;  // the checkpoint to resume from; none: start from the scene
+  std::string from;                             // where it came from, for the log
+  std::string destination;                      // where checkpoints go, for the log
+  sim::StateSaver::Writer write;                // writes one checkpoint, on the saver's thread
+};
+
+// Fills `world` from `options` (already checked by parse_server_options)
+// and `kept` (with --nats-state; else null). On failure `world` holds what
+// was made before it.
+sim::Status start_world(const ServerOptions& options, spdlog::logger& log, ReadyWorld* world,
+                        const KeptState* kept = nullptr);
 
 }  // namespace tumble::server

@@ -1,15 +1,18 @@
 #include "nats/nats_link.h"
 
 #include <array>
+#include <cstdlib>
 
 namespace tumble::nats {
 namespace {
 
 constexpr std::int64_t kDefaultMaxPayload = std::int64_t{1} << 20;
 
-// `what`: the status, and nats.c's own detail of this thread's last error
-// when it says more (e.g. which certificate check failed).
-sim::Status failed(const std::string& what, natsStatus status) {
+sim::Status failed(const std::string& what, natsStatus status) { return nats_failure(what, status); }
+
+}  // namespace
+
+sim::Status nats_failure(const std::string& what, natsStatus status) {
   std::string text = natsStatus_GetText(status);
   std::string detail = nats_GetLastError(nullptr) != nullptr ? nats_GetLastError(nullptr) : "";
   // nats.c starts it with its source position, "(conn.c:733): ".
@@ -17,8 +20,6 @@ sim::Status failed(const std::string& what, natsStatus status) {
   if (!detail.empty() && detail != text) text += " (" + detail + ")";
   return sim::Status::error(what + ": " + text);
 }
-
-}  // namespace
 
 std::string without_credentials(std::string_view url) {
   const std::size_t scheme = url.find("://");
@@ -34,6 +35,7 @@ NatsLink::NatsLink(NatsLinkConfig config, spdlog::logger& log) : config_(std::mo
 
 NatsLink::~NatsLink() {
   if (connection_) {
+    closing_.store(true, std::memory_order_relaxed);
     natsConnection_Close(connection_);
     natsConnection_Destroy(connection_);
   }
@@ -128,6 +130,16 @@ NatsLink::Sent NatsLink::publish(const std::string& subject, std::string_view da
 
 bool NatsLink::connected() const { return up_.load(std::memory_order_relaxed); }
 
+std::size_t NatsLink::known_servers() const {
+  if (!connection_) return config_.urls.size();
+  char** servers = nullptr;
+  int count = 0;
+  if (natsConnection_GetServers(connection_, &servers, &count) != NATS_OK) return config_.urls.size();
+  for (int i = 0; i < count; ++i) std::free(servers[i]);
+  std::free(static_cast<void*>(servers));
+  return static_cast<std::size_t>(count);
+}
+
 std::int64_t NatsLink::max_payload() const {
   const std::int64_t payload = connection_ ? natsConnection_GetMaxPayload(connection_) : 0;
   return payload > 0 ? payload : kDefaultMaxPayload;
@@ -167,6 +179,7 @@ void NatsLink::on_connected(natsConnection*, void* closure) {
 void NatsLink::on_disconnected(natsConnection*, void* closure) {
   auto* self = static_cast<NatsLink*>(closure);
   self->up_.store(false, std::memory_order_relaxed);
+  if (self->closing_.load(std::memory_order_relaxed)) return;  // our own close, not a loss
   const std::string reason = self->last_error();
   self->log_.warn("NATS link down{}{}; reconnecting", reason.empty() ? "" : ": ", reason);
 }

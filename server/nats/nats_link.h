@@ -52,6 +52,10 @@ struct NatsRequest {
 // 2 s), so that none of them still runs (in OpenSSL, say) while the process
 // exits. One per process, made in main before the NatsLink so that it
 // outlives it.
+// `what`: nats.c's status, and its own detail of this thread's last error
+// when it says more (e.g. which certificate check failed).
+sim::Status nats_failure(const std::string& what, natsStatus status);
+
 class NatsLibraryScope {
  public:
   NatsLibraryScope() = default;
@@ -84,6 +88,12 @@ class NatsLink {
   Sent publish(const std::string& subject, std::string_view data);
 
   bool connected() const;
+  // The servers the link knows: those given, and those the cluster told
+  // it of once connected.
+  std::size_t known_servers() const;
+  // The connection, for a JetStream context on it (nats/nats_state_store.h);
+  // null before start(). Owned by the link.
+  natsConnection* connection() const { return connection_; }
   // The server's max payload (bytes) once connected; else the NATS default, 1 MiB.
   std::int64_t max_payload() const;
 
@@ -117,6 +127,7 @@ class NatsLink {
   natsConnection* connection_ = nullptr;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::atomic<bool> up_{false};
+  std::atomic<bool> closing_{false};  // the destructor is closing the connection
   std::atomic<std::uint64_t> messages_out_{0};
   std::atomic<std::uint64_t> bytes_out_{0};
   std::atomic<std::uint64_t> reconnects_{0};

@@ -25,6 +25,10 @@ std::optional<std::string> check_world_name(std::string_view name, std::string_v
   return check_name(name, what, "world name", kMaxWorldNameBytes);
 }
 
+std::optional<std::string> check_bucket_name(std::string_view name) {
+  return check_name(name, "--nats-bucket", "bucket name", kMaxWorldNameBytes);
+}
+
 std::optional<std::string> check_stream_name(std::string_view name, std::string_view what) {
   return check_name(name, what, "stream name", kMaxStreamNameBytes);
 }

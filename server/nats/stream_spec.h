@@ -32,6 +32,8 @@ struct StreamSpec {
 // `what` names the flag or field in the sentence.
 std::optional<std::string> check_world_name(std::string_view name, std::string_view what = "--world");
 std::optional<std::string> check_stream_name(std::string_view name, std::string_view what = "--nats-stream");
+// A JetStream key-value bucket's name, by the same rules as a world's.
+std::optional<std::string> check_bucket_name(std::string_view name);
 
 // Parses NAME=ENCODING@HZ[:fields] (ENCODING: full | quantized | delta;
 // HZ: a number in (0, 10000]; fields: pose | all); else the reason.

@@ -7,7 +7,11 @@
 
 namespace tumble::sim {
 
-StateSaver::StateSaver(std::string path) : path_(std::move(path)), thread_([this] { run(); }) {}
+StateSaver::StateSaver(std::string path)
+    : StateSaver(path, [path](const tumble::v1::WorldState& state) { return write_state_file(path, state); }) {}
+
+StateSaver::StateSaver(std::string destination, Writer write)
+    : destination_(std::move(destination)), write_(std::move(write)), thread_([this] { run(); }) {}
 
 StateSaver::~StateSaver() { stop(); }
 
@@ -42,9 +46,9 @@ void StateSaver::run() {
     std::shared_ptr<const tumble::v1::WorldState> state = std::move(waiting_);
     waiting_ = nullptr;
     lock.unlock();
-    const Status status = write_state_file(path_, *state);
+    const Status status = write_(*state);
     if (status.ok()) {
-      sim_log().debug("checkpoint of tick {} written to {}", state->tick(), path_);
+      sim_log().debug("checkpoint of tick {} written to {}", state->tick(), destination_);
     } else {
       sim_log().error("checkpoint of tick {} not written: {}", state->tick(), status.message());
     }

@@ -232,7 +232,8 @@ TEST_F(ServerOptionsTest, WordsWhereNumbersOrLevelsBelong) {
 }
 
 TEST_F(ServerOptionsTest, FlagsThatNeedOrExcludeOthers) {
-  EXPECT_EQ(usage_error({"--checkpoint-interval", "1"}), "--checkpoint-interval requires --state");
+  EXPECT_EQ(usage_error({"--checkpoint-interval", "1"}),
+            "--checkpoint-interval needs --state or --nats-state: somewhere to write the checkpoints");
   EXPECT_EQ(usage_error({"--http-port-file", "/tmp/x"}), "--http-port-file requires --http");
   EXPECT_EQ(usage_error({"--max-http-connections", "8"}), "--max-http-connections requires --http");
   EXPECT_EQ(usage_error({"--http-header-timeout", "5"}), "--http-header-timeout requires --http");
@@ -302,6 +303,31 @@ TEST_F(ServerOptionsTest, NatsFlagsParseWithTheirDefaults) {
   EXPECT_DOUBLE_EQ(options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-rest-key-interval", "5"})
                        .nats_rest_key_interval_seconds,
                    5);
+}
+
+TEST_F(ServerOptionsTest, NatsStateCheckpointsEverySecondUnlessToldAndNeedsNoStateFile) {
+  const ServerOptions options = options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-state"});
+  EXPECT_TRUE(options.nats_state);
+  EXPECT_EQ(options.nats_bucket, "tumble_worlds");
+  EXPECT_EQ(options.nats_replicas, 0);
+  EXPECT_DOUBLE_EQ(options.checkpoint_interval_seconds, 1);
+  const ServerOptions told =
+      options_of({"--nats", "nats://a:4222", "--world", "w", "--nats-state", "--checkpoint-interval", "5",
+                  "--nats-bucket", "lab_worlds", "--nats-replicas", "3", "--nats-state-reset"});
+  EXPECT_DOUBLE_EQ(told.checkpoint_interval_seconds, 5);
+  EXPECT_EQ(told.nats_bucket, "lab_worlds");
+  EXPECT_EQ(told.nats_replicas, 3);
+  EXPECT_TRUE(told.nats_state_reset);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-state", "--nats-bucket", "a.b"})
+                .find("--nats-bucket: bucket name 'a.b' must be"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-state", "--state", "s"}).find("excludes"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-replicas", "3"}).find("--nats-state"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-state", "--nats-replicas", "7"})
+                .find("--nats-replicas"),
+            std::string::npos);
 }
 
 TEST_F(ServerOptionsTest, BadNatsValuesAreOneLineNamingTheFlag) {

@@ -57,6 +57,9 @@ bool NatsServerProcess::start(std::chrono::milliseconds timeout) {
   out_path_ = dir_ + "/nats-" + std::to_string(runs_) + ".out";
   std::vector<std::string> argv = {nats_server_path(),    "-c", config_path_, "-a", "127.0.0.1", "-p",
                                    std::to_string(port_), "-l", log_path_};
+  if (jetstream_) {
+    argv.insert(argv.end(), {"-js", "-sd", dir_ + "/jetstream", "-n", "node-" + std::to_string(port_)});
+  }
   if (cluster_port_ != 0) {
     argv.insert(argv.end(),
                 {"--cluster_name", "tumble-test", "--cluster", "nats://127.0.0.1:" + std::to_string(cluster_port_)});
@@ -83,7 +86,7 @@ void NatsServerProcess::kill() {
   process_.reset();
 }
 
-NatsCluster::NatsCluster(const NatsConfig& config) {
+NatsCluster::NatsCluster(const NatsConfig& config, bool jetstream) : jetstream_(jetstream) {
   const std::uint16_t cluster_ports[3] = {free_loopback_port(), free_loopback_port(), free_loopback_port()};
   for (std::size_t i = 0; i < 3; ++i) {
     std::vector<std::uint16_t> routes;
@@ -91,6 +94,7 @@ NatsCluster::NatsCluster(const NatsConfig& config) {
       if (j != i) routes.push_back(cluster_ports[j]);
     }
     nodes_.push_back(std::make_unique<NatsServerProcess>(config, 0, cluster_ports[i], routes));
+    if (jetstream) nodes_.back()->enable_jetstream();
   }
 }
 
@@ -108,8 +112,13 @@ bool NatsCluster::start(std::chrono::milliseconds timeout) {
     }
     return count >= 2;
   };
+  // A JetStream node logs the metadata leader once the three have elected one.
+  const auto led = [this](const std::string& log) {
+    return !jetstream_ || log.find("JetStream cluster new metadata leader") != std::string::npos ||
+           log.find("Self is new JetStream cluster metadata leader") != std::string::npos;
+  };
   for (auto& node : nodes_) {
-    while (!routed(node->log())) {
+    while (!routed(node->log()) || !led(node->log())) {
       if (std::chrono::steady_clock::now() >= deadline) return false;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }

@@ -46,6 +46,9 @@ class NatsServerProcess {
   // Starts the node (again, after kill()) and waits until it is ready;
   // false when it exited or did not get ready within `timeout`.
   bool start(std::chrono::milliseconds timeout = std::chrono::seconds(30));
+  // From the next start() on, JetStream too: its store in this node's
+  // directory (kept across kill() and start()), the server named by its port.
+  void enable_jetstream() { jetstream_ = true; }
   // SIGKILL, and waits for the process to end.
   void kill();
   bool running() const { return process_ && process_->running(); }
@@ -69,15 +72,18 @@ class NatsServerProcess {
   std::uint16_t cluster_port_;
   std::vector<std::uint16_t> routes_;
   int runs_ = 0;
+  bool jetstream_ = false;
   std::unique_ptr<ChildProcess> process_;
 };
 
 // Three nodes routed to one another on 127.0.0.1, each with `config`.
 class NatsCluster {
  public:
-  explicit NatsCluster(const NatsConfig& config = {});
+  // With `jetstream`, every node runs JetStream: a JetStream cluster of three.
+  explicit NatsCluster(const NatsConfig& config = {}, bool jetstream = false);
   // Starts every node and waits until each is ready and sees both others as
-  // routes; false otherwise.
+  // routes (and, with JetStream, knows the cluster's metadata leader); false
+  // otherwise.
   bool start(std::chrono::milliseconds timeout = std::chrono::seconds(30));
   NatsServerProcess& node(std::size_t i) { return *nodes_[i]; }
   // The three URLs, comma-separated, node 0 first.
@@ -85,6 +91,7 @@ class NatsCluster {
 
  private:
   std::vector<std::unique_ptr<NatsServerProcess>> nodes_;
+  bool jetstream_ = false;
 };
 
 // Where nats-server is, or "" when it is not installed.

@@ -182,4 +182,65 @@ bool NatsTestClient::wait_for_interest(const std::string& subject, NatsCollector
   return false;
 }
 
+namespace {
+
+// A JetStream context on `connection`; null (and `status` set) on failure.
+jsCtx* jetstream_of(natsConnection* connection, natsStatus* status) {
+  jsCtx* js = nullptr;
+  *status = natsConnection_JetStream(&js, connection, nullptr);
+  return *status == NATS_OK ? js : nullptr;
+}
+
+}  // namespace
+
+std::optional<NatsTestClient::KvValue> NatsTestClient::kv_get(const std::string& bucket, const std::string& key) {
+  natsStatus status = NATS_OK;
+  jsCtx* js = jetstream_of(connection_, &status);
+  kvStore* kv = nullptr;
+  kvEntry* entry = nullptr;
+  if (js != nullptr) status = js_KeyValue(&kv, js, bucket.c_str());
+  if (status == NATS_OK) status = kvStore_Get(&entry, kv, key.c_str());
+  note(status);
+  std::optional<KvValue> value;
+  if (status == NATS_OK) {
+    value = KvValue{
+        std::string(static_cast<const char*>(kvEntry_Value(entry)), static_cast<std::size_t>(kvEntry_ValueLen(entry))),
+        kvEntry_Revision(entry)};
+  }
+  kvEntry_Destroy(entry);
+  kvStore_Destroy(kv);
+  jsCtx_Destroy(js);
+  return value;
+}
+
+bool NatsTestClient::kv_put(const std::string& bucket, const std::string& key, const std::string& data) {
+  natsStatus status = NATS_OK;
+  jsCtx* js = jetstream_of(connection_, &status);
+  kvStore* kv = nullptr;
+  if (js != nullptr) status = js_KeyValue(&kv, js, bucket.c_str());
+  if (status == NATS_OK) status = kvStore_Put(nullptr, kv, key.c_str(), data.data(), static_cast<int>(data.size()));
+  note(status);
+  kvStore_Destroy(kv);
+  jsCtx_Destroy(js);
+  return status == NATS_OK;
+}
+
+int NatsTestClient::kv_current_replicas(const std::string& bucket) {
+  natsStatus status = NATS_OK;
+  jsCtx* js = jetstream_of(connection_, &status);
+  jsStreamInfo* info = nullptr;
+  if (js != nullptr) status = js_GetStreamInfo(&info, js, ("KV_" + bucket).c_str(), nullptr, nullptr);
+  note(status);
+  int current = 0;
+  if (status == NATS_OK && info->Cluster != nullptr) {
+    if (info->Cluster->Leader != nullptr) ++current;
+    for (int i = 0; i < info->Cluster->ReplicasLen; ++i) {
+      if (info->Cluster->Replicas[i]->Current && !info->Cluster->Replicas[i]->Offline) ++current;
+    }
+  }
+  jsStreamInfo_Destroy(info);
+  jsCtx_Destroy(js);
+  return current;
+}
+
 }  // namespace tumble::test

@@ -97,6 +97,19 @@ class NatsTestClient {
   bool wait_for_interest(const std::string& subject, NatsCollector& collector,
                          std::chrono::milliseconds timeout = std::chrono::seconds(20));
 
+  // A JetStream key-value bucket's value for `key` and its revision; nullopt
+  // when the bucket or the key is missing (see error()).
+  struct KvValue {
+    std::string data;
+    std::uint64_t revision = 0;
+  };
+  std::optional<KvValue> kv_get(const std::string& bucket, const std::string& key);
+  // Puts `data` under `key`; false on failure (see error()).
+  bool kv_put(const std::string& bucket, const std::string& key, const std::string& data);
+  // The replicas of the bucket's stream (KV_<bucket>) the cluster reports
+  // current, the leader included; 0 when it cannot be read.
+  int kv_current_replicas(const std::string& bucket);
+
   natsConnection* connection() { return connection_; }
 
  private:
