@@ -1,11 +1,18 @@
 // tumbled: the tumble simulation server. Options -> a ready world -> run
 // until SIGINT or SIGTERM -> save the world.
+#include <linux/close_range.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -14,6 +21,8 @@
 #include "nats/nats_link.h"
 #include "nats/nats_state_store.h"
 #include "nats/nats_world.h"
+#include "nats/stream_spec.h"
+#include "nats/world_lease.h"
 #include "net/asio.h"
 #include "net/server.h"
 #include "options.h"
@@ -21,6 +30,7 @@
 #include "sim/log_text.h"
 #include "sim/state_file.h"
 #include "startup.h"
+#include "tumble/v1/world_info.pb.h"
 #include "tumble/version.h"
 
 namespace {
@@ -80,6 +90,24 @@ void log_access(const tumble::net::AccessTokens& tokens, spdlog::logger& log) {
   }
 }
 
+// A leader that lost its world's lease becomes a standby by starting over
+// as one: the same program and arguments, with --standby. Replacing the
+// process ends every thread at once, so nothing of the old world is
+// stepped or published after this; every descriptor is closed on the way
+// (marked close-on-exec), so the listeners and the NATS connection go too.
+[[noreturn]] void restart_as_standby(int argc, char** argv) {
+  std::vector<char*> args(argv, argv + argc);
+  bool standby = false;
+  for (char* arg : args) standby = standby || std::strcmp(arg, "--standby") == 0;
+  static char kStandby[] = "--standby";
+  if (!standby) args.push_back(kStandby);
+  args.push_back(nullptr);
+  std::fflush(nullptr);
+  ::syscall(SYS_close_range, 3U, ~0U, CLOSE_RANGE_CLOEXEC);
+  ::execv("/proc/self/exe", args.data());
+  std::_Exit(kExitFailure);  // could not start again: a supervisor restarts tumbled
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -105,6 +133,8 @@ int main(int argc, char** argv) {
   std::optional<tumble::nats::NatsLibraryScope> nats_library;
   std::unique_ptr<tumble::nats::NatsLink> nats_link;
   std::unique_ptr<tumble::nats::NatsStateStore> state_store;
+  std::unique_ptr<tumble::nats::WorldLease> lease;
+  const std::string server_id = tumble::nats::make_server_id();
   tumble::server::KeptState kept;
   if (!options.nats_urls.empty()) {
     nats_library.emplace();
@@ -123,11 +153,50 @@ int main(int argc, char** argv) {
     store_config.bucket = options.nats_bucket;
     store_config.key = options.world;
     store_config.replicas = options.nats_replicas;
+    // A standby (one that lost the lease, too) waits for the cluster as long as it takes.
+    if (options.standby) store_config.wait = std::chrono::hours(24 * 365);
     state_store = std::make_unique<tumble::nats::NatsStateStore>(*nats_link, store_config, *log);
     if (auto status = state_store->open(); !status.ok()) {
       log->error("{}", status.message());
       return kExitFailure;
     }
+    // One server leads the world; the others wait as standbys, answering
+    // tumble.v1.worlds as such, and the leader's NatsWorld answers for it.
+    tumble::nats::WorldLeaseConfig lease_config;
+    lease_config.bucket = options.nats_bucket;
+    lease_config.world = options.world;
+    lease_config.id = server_id;
+    lease_config.renew = std::chrono::milliseconds(std::llround(options.lease_renew_seconds * 1000));
+    lease_config.timeout = std::chrono::milliseconds(std::llround(options.lease_timeout_seconds * 1000));
+    lease_config.defer = options.standby;
+    lease = std::make_unique<tumble::nats::WorldLease>(*nats_link, lease_config, *log);
+    tumble::nats::WorldLease* standing = lease.get();
+    tumble::nats::NatsLink* link = nats_link.get();
+    const auto answer_as_standby = [standing, link, world = options.world,
+                                    server_id](tumble::nats::NatsRequest request) {
+      if (standing->held() || request.reply.empty()) return;
+      tumble::v1::WorldInfo info;
+      info.set_world(world);
+      info.set_server_id(server_id);
+      info.set_version(tumble::kVersion);
+      info.set_standby(true);
+      info.set_leader_id(standing->observed_leader());
+      info.set_epoch(standing->observed_epoch());
+      link->publish(request.reply, info.SerializeAsString());
+    };
+    if (auto status = nats_link->subscribe(std::string(tumble::nats::kWorldsSubject), "", answer_as_standby);
+        !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+    if (auto status = lease->acquire(); !status.ok()) {
+      log->error("{}", status.message());
+      return kExitFailure;
+    }
+    lease->start_renewing([argc, argv, &log](const std::string& reason) {
+      log->warn("{}: no longer stepping or publishing the world; starting again as a standby", reason);
+      restart_as_standby(argc, argv);
+    });
     tumble::nats::StoredState stored;
     if (auto status = state_store->load(&stored); !status.ok()) {
       if (!options.nats_state_reset) {
@@ -145,7 +214,11 @@ int main(int argc, char** argv) {
     }
     kept.destination = state_store->where();
     tumble::nats::NatsStateStore* store = state_store.get();
-    kept.write = [store](const tumble::v1::WorldState& state) { return store->put(state); };
+    // Only the leader writes the world's checkpoints.
+    kept.write = [store, standing](const tumble::v1::WorldState& state) {
+      if (!standing->held()) return tumble::sim::Status::error("not written: this server no longer leads the world");
+      return store->put(state);
+    };
   }
 
   tumble::server::ReadyWorld world;
@@ -196,6 +269,8 @@ int main(int argc, char** argv) {
     world_config.rest_key_interval_s = options.nats_rest_key_interval_seconds;
     world_config.sleep_events = options.nats_sleep_events;
     world_config.version = tumble::kVersion;
+    world_config.server_id = server_id;
+    world_config.lease = lease.get();
     nats_world = std::make_unique<tumble::nats::NatsWorld>(sim, *nats_link, world_config, *log);
     if (auto status = nats_world->start(); !status.ok()) {
       log->error("{}", status.message());
@@ -228,6 +303,7 @@ int main(int argc, char** argv) {
 
   sim.start();
   io.run();
+  if (lease) lease->stop_renewing();
   sim.stop();
   if (nats_world) nats_world->stop();
   if (world.checkpoints) world.checkpoints->stop();  // a late checkpoint must not land after the final save
@@ -247,12 +323,17 @@ int main(int argc, char** argv) {
   if (state_store) {
     tumble::v1::WorldState state;
     sim.capture(&state);
-    if (auto status = state_store->put(state); !status.ok()) {
-      log->error("the world was not saved: {}", status.message());
+    if (!lease->held()) {
+      log->warn("the world was not saved: this server no longer leads it");
+    } else if (auto put = state_store->put(state); !put.ok()) {
+      log->error("the world was not saved: {}", put.message());
       return kExitFailure;
+    } else {
+      log->info("saved the world at tick {} to {} (revision {})", state.tick(), state_store->where(),
+                state_store->last_revision());
     }
-    log->info("saved the world at tick {} to {} (revision {})", state.tick(), state_store->where(),
-              state_store->last_revision());
+    // A standby takes over at once rather than after the timeout.
+    lease->release();
   }
   return kExitSuccess;
 }

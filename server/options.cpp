@@ -198,18 +198,30 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
                    "--checkpoint-interval (default 1 s here) and on SIGTERM/SIGINT, and resume from it at start "
                    "(--scene only seeds a world the bucket has not)")
           ->needs(nats_option);
-  app.add_option("--nats-bucket", options.nats_bucket, "The JetStream key-value bucket of --nats-state")
-      ->capture_default_str()
-      ->needs(nats_state_option);
-  app.add_option("--nats-replicas", options.nats_replicas,
-                 "Replicas of the bucket when tumbled makes it (1 to 5; default 3 on a cluster of three servers "
-                 "or more, else 1)")
-      ->check(CLI::Range(1, 5))
-      ->needs(nats_state_option);
-  app.add_flag("--nats-state-reset", options.nats_state_reset,
-               "Start from --scene when the bucket's value for the world is damaged or not a world (it is "
-               "replaced at the first checkpoint); without it tumbled refuses to start")
-      ->needs(nats_state_option);
+  auto* bucket_option =
+      app.add_option("--nats-bucket", options.nats_bucket, "The JetStream key-value bucket of --nats-state")
+          ->capture_default_str();
+  auto* replicas_option = app.add_option("--nats-replicas", options.nats_replicas,
+                                         "Replicas of the bucket when tumbled makes it (1 to 5; default 3 on a "
+                                         "cluster of three servers or more, else 1)")
+                              ->check(CLI::Range(1, 5));
+  auto* reset_option =
+      app.add_flag("--nats-state-reset", options.nats_state_reset,
+                   "Start from --scene when the bucket's value for the world is damaged or not a world (it is "
+                   "replaced at the first checkpoint); without it tumbled refuses to start");
+  app.add_flag("--standby", options.standby,
+               "With --nats-state (implied): start as the world's standby, taking the lease only once it has gone "
+               "unrenewed for --lease-timeout (a lease nobody held included)")
+      ->needs(nats_option);
+  auto* renew_option = app.add_option("--lease-renew", options.lease_renew_seconds,
+                                      "Seconds between renewals of the world's lease by its leader (--nats-state)")
+                           ->capture_default_str()
+                           ->check(CLI::Range(0.05, 60.0));
+  auto* timeout_option = app.add_option("--lease-timeout", options.lease_timeout_seconds,
+                                        "Seconds a lease may go unrenewed before a standby takes it; the leader stops "
+                                        "--lease-timeout minus --lease-renew after its last renewal that was taken")
+                             ->capture_default_str()
+                             ->check(CLI::Range(0.1, 600.0));
   app.add_flag("--nats-sleep-events", options.nats_sleep_events,
                "Also publish bodies falling asleep and waking on tumble.v1.WORLD.events (a scan of the bodies "
                "after every step)")
@@ -253,6 +265,12 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
     options.listen = listen_address(listen);
   }
   if (http_option->count() > 0) options.http = listen_address(http);
+  if (options.standby) options.nats_state = true;
+  for (const CLI::Option* option : {bucket_option, replicas_option, reset_option, renew_option, timeout_option}) {
+    if (option->count() > 0 && !options.nats_state) {
+      return usage_error(option->get_name() + " needs --nats-state (or --standby)");
+    }
+  }
   if (!options.nats_urls.empty()) {
     if (auto problem = nats::check_world_name(options.world)) return usage_error(*problem);
     for (const std::string& url : options.nats_urls) {
@@ -277,6 +295,13 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
       return usage_error(
           "--nats-rest-key-interval must be at least --nats-key-interval: at rest key frames come "
           "less often, not more");
+    }
+    if (options.lease_timeout_seconds <= options.lease_renew_seconds) {
+      return usage_error("--lease-timeout must be longer than --lease-renew");
+    }
+    if (options.nats_state && !options.state_path.empty()) {
+      return usage_error(
+          "--nats-state (and --standby) keep the world in the NATS cluster, --state in a file: give one");
     }
     if (options.nats_state) {
       if (auto problem = nats::check_bucket_name(options.nats_bucket)) return usage_error(*problem);

@@ -92,6 +92,10 @@ struct ServerOptions {
   std::string nats_bucket = "tumble_worlds";  // --nats-bucket: 1 to 64 of A-Z a-z 0-9 _ -
   int nats_replicas = 0;                      // --nats-replicas: 1 to 5; 0: by the cluster's size
   bool nats_state_reset = false;              // --nats-state-reset: a damaged value gives way to the scene
+  // Leadership of the world among the servers that keep it (nats/world_lease.h).
+  bool standby = false;              // --standby (implies --nats-state): take no lease nobody held before the timeout
+  double lease_renew_seconds = 0.5;  // --lease-renew, s: 0.05 to 60
+  double lease_timeout_seconds = 2;  // --lease-timeout, s: more than --lease-renew, at most 600
 
   // Scheduling and logging.
   int realtime_priority = 0;       // SCHED_FIFO priority, 1 to 99; 0: ordinary scheduling

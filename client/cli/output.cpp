@@ -341,15 +341,44 @@ std::string stream_spec(const tumble::v1::NatsStreamInfo& stream) {
 
 std::string format_world_table(const std::vector<tumble::v1::WorldInfo>& worlds) {
   if (worlds.empty()) return "no worlds answered\n";
-  constexpr std::size_t kColumns = 5;
-  constexpr std::array<bool, kColumns> kRightAligned = {false, true, true, true, false};
+  // Worlds kept in JetStream (--nats-state) have a leader and standbys:
+  // two more columns, and a standby is named on its world's row.
+  const bool leadership = std::any_of(worlds.begin(), worlds.end(), [](const tumble::v1::WorldInfo& info) {
+    return info.epoch() != 0 || info.standby();
+  });
+  const auto standbys_of = [&](const std::string& world) {
+    std::string ids;
+    for (const tumble::v1::WorldInfo& info : worlds) {
+      if (info.standby() && info.world() == world) ids += (ids.empty() ? "" : " ") + info.server_id();
+    }
+    return ids.empty() ? std::string("-") : ids;
+  };
+  const auto leader = [](const std::string& id, std::uint64_t epoch) {
+    return id.empty() ? std::string("-") : id + " (epoch " + std::to_string(epoch) + ")";
+  };
+  constexpr std::size_t kColumns = 7;
+  constexpr std::array<bool, kColumns> kRightAligned = {false, true, true, true, false, false, false};
   std::vector<std::array<std::string, kColumns>> rows;
-  rows.push_back({"WORLD", "TICK", "RATE (Hz)", "BODIES", "STREAMS"});
+  rows.push_back({"WORLD", "TICK", "RATE (Hz)", "BODIES", "STREAMS", "LEADER", "STANDBYS"});
+  std::vector<std::string> led;  // worlds a leader answered for
   for (const tumble::v1::WorldInfo& info : worlds) {
+    if (info.standby()) continue;
     std::string streams;
     for (const auto& stream : info.streams()) streams += (streams.empty() ? "" : " ") + stream_spec(stream);
     rows.push_back({info.world(), std::to_string(info.tick()) + (info.paused() ? " (paused)" : ""),
-                    short_number(info.tick_rate_hz()), std::to_string(info.bodies()), streams.empty() ? "-" : streams});
+                    short_number(info.tick_rate_hz()), std::to_string(info.bodies()), streams.empty() ? "-" : streams,
+                    leader(info.epoch() != 0 ? info.server_id() : "", info.epoch()), standbys_of(info.world())});
+    led.push_back(info.world());
+  }
+  // A world whose leader did not answer (a takeover under way): its standbys' view.
+  for (const tumble::v1::WorldInfo& info : worlds) {
+    if (!info.standby() || std::find(led.begin(), led.end(), info.world()) != led.end()) continue;
+    rows.push_back(
+        {info.world(), "-", "-", "-", "-", leader(info.leader_id(), info.epoch()), standbys_of(info.world())});
+    led.push_back(info.world());
+  }
+  if (!leadership) {
+    for (auto& row : rows) row[5] = row[6] = "";  // the table ends at STREAMS (trailing blanks are trimmed)
   }
   return aligned_table(rows, kRightAligned);
 }
@@ -364,6 +393,7 @@ Json world_info_json(const tumble::v1::WorldInfo& info) {
     entry["rate_hz"] = stream.rate_hz();
     entry["fields"] = fields_name(stream.fields());
     entry["key_interval_s"] = stream.key_interval_s();
+    entry["rest_key_interval_s"] = stream.rest_key_interval_s();
     streams.push_back(std::move(entry));
   }
   Json out = Json::object();
@@ -378,6 +408,9 @@ Json world_info_json(const tumble::v1::WorldInfo& info) {
   out["events_subject"] = info.events_subject();
   out["rpc_subject"] = info.rpc_subject();
   out["query_subject"] = info.query_subject();
+  out["epoch"] = info.epoch();
+  out["standby"] = info.standby();
+  out["leader_id"] = info.leader_id();
   return out;
 }
 

@@ -75,7 +75,8 @@ sim::Status NatsStateStore::bind(bool* retry) {
   replicas_ = config_.replicas > 0 ? config_.replicas : replicas_for(link_.known_servers());
   config.Replicas = replicas_;
   status = js_CreateKeyValue(&bucket_, jetstream_, &config);
-  if (status != NATS_OK) return nats_failure("making the bucket with " + std::to_string(replicas_) + " replica(s)", status);
+  if (status != NATS_OK)
+    return nats_failure("making the bucket with " + std::to_string(replicas_) + " replica(s)", status);
   log_.info("made the JetStream bucket {} with {} replica(s)", config_.bucket, replicas_);
   return {};
 }
@@ -93,8 +94,8 @@ sim::Status NatsStateStore::load(StoredState* out) {
   const sim::Status parsed = sim::parse_state_file(bytes, &out->state, &format);
   kvEntry_Destroy(entry);
   if (!parsed.ok()) {
-    return sim::Status::error("--nats-state: the value of " + where() + " (revision " +
-                              std::to_string(out->revision) + ", " + std::to_string(bytes.size()) +
+    return sim::Status::error("--nats-state: the value of " + where() + " (revision " + std::to_string(out->revision) +
+                              ", " + std::to_string(bytes.size()) +
                               " bytes) is not a world's state: " + parsed.message());
   }
   out->found = true;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 #include "frames/pose_frames.h"
 #include "frames/world_events.h"
@@ -15,20 +14,6 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-// A random id per start, to tell two tumbled of one world apart.
-std::string random_server_id() {
-  std::random_device device;
-  std::mt19937_64 generator((std::uint64_t{device()} << 32) ^ device());
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string id(16, '0');
-  std::uint64_t bits = generator();
-  for (char& c : id) {
-    c = kHex[bits & 15];
-    bits >>= 4;
-  }
-  return id;
-}
-
 // Sleep events need the sim to scan the bodies after every step.
 bool is_sleep_event(sim::WorldEventKind kind) {
   return kind == sim::WorldEventKind::body_asleep || kind == sim::WorldEventKind::body_awake;
@@ -37,7 +22,11 @@ bool is_sleep_event(sim::WorldEventKind kind) {
 }  // namespace
 
 NatsWorld::NatsWorld(sim::Simulation& sim, NatsLink& link, NatsWorldConfig config, spdlog::logger& log)
-    : sim_(sim), link_(link), config_(std::move(config)), log_(log), server_id_(random_server_id()) {
+    : sim_(sim),
+      link_(link),
+      config_(std::move(config)),
+      log_(log),
+      server_id_(config_.server_id.empty() ? make_server_id() : config_.server_id) {
   for (const StreamSpec& spec : config_.streams) {
     streams_.emplace_back(spec, poses_subject(config_.world, spec.name), config_.key_interval_s,
                           config_.rest_key_interval_s);
@@ -90,7 +79,7 @@ sim::Status NatsWorld::start() {
                                     [this](NatsRequest request) {
                                       link_.count_request();
                                       if (request.reply.empty()) return;
-                                      link_.publish(request.reply, world_info().SerializeAsString());
+                                      publish_to(request.reply, world_info().SerializeAsString());
                                     });
       !status.ok()) {
     return status;
@@ -132,6 +121,10 @@ tumble::v1::WorldInfo NatsWorld::world_info() const {
   info.set_rpc_subject(rpc_subject(config_.world));
   info.set_query_subject(query_subject(config_.world));
   info.set_server_id(server_id_);
+  if (config_.lease != nullptr) {
+    info.set_epoch(config_.lease->epoch());
+    info.set_leader_id(server_id_);
+  }
   return info;
 }
 
@@ -183,6 +176,7 @@ void NatsWorld::publish_frame(Stream& stream, const sim::Snapshot& snapshot) {
   frame.set_tick(snapshot.tick);
   frame.set_sim_time(snapshot.sim_time);
   frame.set_sequence(plan.sequence);
+  if (config_.lease != nullptr) frame.set_epoch(config_.lease->epoch());
   const bool velocities = stream.spec.velocities;
   static const std::vector<physics::BodyId> kNoFilter;
   switch (stream.spec.encoding) {
@@ -210,7 +204,7 @@ void NatsWorld::publish_frame(Stream& stream, const sim::Snapshot& snapshot) {
   stream.latest_tick = snapshot.tick;
   stream.latest_sim_time = snapshot.sim_time;
   std::string bytes = message.SerializeAsString();
-  const NatsLink::Sent sent = link_.publish(stream.subject, bytes);
+  const NatsLink::Sent sent = publish_to(stream.subject, bytes);
   if (stream.spec.encoding == tumble::v1::POSE_ENCODING_FULL) stream.latest_full = std::move(bytes);
   if (sent != NatsLink::Sent::ok) {
     stream.planner.lost();
@@ -246,7 +240,7 @@ void NatsWorld::publish_events(const sim::WorldEvents& events) {
     if (is_sleep_event(event.kind) && !config_.sleep_events) continue;
     ServerMessage message;
     frames::fill_world_event(event, 0, message.mutable_world_event());
-    link_.publish(subject, message.SerializeAsString());
+    publish_to(subject, message.SerializeAsString());
   }
 }
 
@@ -256,11 +250,11 @@ void NatsWorld::answer_key(std::size_t index, const std::string& reply) {
     ServerMessage error;
     error.mutable_error()->set_code(tumble::v1::FAILED_PRECONDITION);
     error.mutable_error()->set_message("stream " + stream.spec.name + " has no frame yet");
-    link_.publish(reply, error.SerializeAsString());
+    publish_to(reply, error.SerializeAsString());
     return;
   }
   if (stream.spec.encoding == tumble::v1::POSE_ENCODING_FULL) {
-    link_.publish(reply, stream.latest_full);
+    publish_to(reply, stream.latest_full);
     return;
   }
   ServerMessage message;
@@ -268,6 +262,7 @@ void NatsWorld::answer_key(std::size_t index, const std::string& reply) {
   frame.set_tick(stream.latest_tick);
   frame.set_sim_time(stream.latest_sim_time);
   frame.set_sequence(stream.latest_sequence);
+  if (config_.lease != nullptr) frame.set_epoch(config_.lease->epoch());
   if (stream.spec.encoding == tumble::v1::POSE_ENCODING_DELTA) {
     frames::fill_delta_key(stream.latest_bodies, stream.spec.velocities, &frame);
   } else {
@@ -284,7 +279,7 @@ void NatsWorld::answer_rpc(NatsRequest request, bool read_only) {
     ServerMessage error;
     error.mutable_error()->set_code(tumble::v1::INVALID_ARGUMENT);
     error.mutable_error()->set_message("the payload on " + subject + " is not a ClientMessage; nothing was applied");
-    if (!request.reply.empty()) link_.publish(request.reply, error.SerializeAsString());
+    if (!request.reply.empty()) publish_to(request.reply, error.SerializeAsString());
     return;
   }
   const auto answer = [&](const ServerMessage& reply) {
@@ -350,16 +345,21 @@ void NatsWorld::answer_rpc(NatsRequest request, bool read_only) {
   sim_.submit(std::move(command));
 }
 
+NatsLink::Sent NatsWorld::publish_to(const std::string& subject, std::string_view data) {
+  if (config_.lease != nullptr && !config_.lease->held()) return NatsLink::Sent::down;
+  return link_.publish(subject, data);
+}
+
 void NatsWorld::send_reply(const std::string& reply, const ServerMessage& message, std::uint64_t request_id) {
   const std::string bytes = message.SerializeAsString();
-  if (link_.publish(reply, bytes) != NatsLink::Sent::too_large) return;
+  if (publish_to(reply, bytes) != NatsLink::Sent::too_large) return;
   ServerMessage error;
   error.mutable_error()->set_request_id(request_id);
   error.mutable_error()->set_code(tumble::v1::RESOURCE_EXHAUSTED);
   error.mutable_error()->set_message(
       "the reply of " + std::to_string(bytes.size()) + " bytes is over the NATS server's max payload of " +
       std::to_string(link_.max_payload()) + " bytes; ask for less (ListBodies.max_bodies)");
-  link_.publish(reply, error.SerializeAsString());
+  publish_to(reply, error.SerializeAsString());
 }
 
 }  // namespace tumble::nats

@@ -44,6 +44,7 @@
 #include "nats/nats_link.h"
 #include "nats/sequence_planner.h"
 #include "nats/stream_spec.h"
+#include "nats/world_lease.h"
 #include "sim/simulation.h"
 #include "sim/snapshot.h"
 #include "sim/status.h"
@@ -60,6 +61,11 @@ struct NatsWorldConfig {
   double rest_key_interval_s = 30;  // >= key_interval_s: between key frames while nothing changes
   bool sleep_events = false;        // also publish bodies falling asleep and waking
   std::string version;              // tumbled's, for WorldInfo
+  std::string server_id;            // this server's id (make_server_id()); empty: a new one
+  // With --nats-state: this server's lease of the world. While it is not
+  // held nothing is published or answered; frames and WorldInfo carry its
+  // epoch. Null: no lease, always published. Outlives the NatsWorld.
+  const WorldLease* lease = nullptr;
   // Most events and replies waiting for the publisher's thread; beyond,
   // the oldest events go (counted), a reply is answered with an Error.
   std::size_t max_queued = 65536;
@@ -117,6 +123,9 @@ class NatsWorld {
   void answer_rpc(NatsRequest request, bool read_only);
   // Sends `message` to `reply` from the publishing thread; over the max
   // payload it is an Error instead.
+  // Publishes through the link while this server leads the world (see
+  // NatsWorldConfig::lease); else publishes nothing and says the link is down.
+  NatsLink::Sent publish_to(const std::string& subject, std::string_view data);
   void send_reply(const std::string& reply, const tumble::v1::ServerMessage& message, std::uint64_t request_id);
   // Queues work for the publishing thread; false when the queue is full.
   bool post(std::function<void()> work);

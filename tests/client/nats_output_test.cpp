@@ -30,6 +30,7 @@ tumble::v1::WorldInfo demo_world() {
   d->set_rate_hz(12.5);
   d->set_fields(tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
   d->set_key_interval_s(1);
+  d->set_rest_key_interval_s(30);
   return info;
 }
 
@@ -48,14 +49,37 @@ TEST(WorldsOutput, ATableOfWorldsWithTheirStreamsAsTheServerSpellsThem) {
 }
 
 TEST(WorldsOutput, OneJsonObjectPerWorld) {
-  EXPECT_EQ(json_line(world_info_json(demo_world())),
-            "{\"world\": \"demo\", \"tick\": 12345, \"tick_rate_hz\": 240.0, \"bodies\": 901, \"paused\": false, "
-            "\"version\": \"0.1.0\", \"server_id\": \"a1b2\", \"streams\": [{\"name\": \"q60\", \"subject\": "
-            "\"tumble.v1.demo.poses.q60\", \"encoding\": \"quantized\", \"rate_hz\": 60.0, \"fields\": \"pose\", "
-            "\"key_interval_s\": 0.0}, {\"name\": \"d12\", \"subject\": \"tumble.v1.demo.poses.d12\", \"encoding\": "
-            "\"delta\", \"rate_hz\": 12.5, \"fields\": \"all\", \"key_interval_s\": 1.0}], \"events_subject\": "
-            "\"tumble.v1.demo.events\", \"rpc_subject\": \"tumble.v1.demo.rpc\", \"query_subject\": "
-            "\"tumble.v1.demo.query\"}\n");
+  EXPECT_EQ(
+      json_line(world_info_json(demo_world())),
+      "{\"world\": \"demo\", \"tick\": 12345, \"tick_rate_hz\": 240.0, \"bodies\": 901, \"paused\": false, "
+      "\"version\": \"0.1.0\", \"server_id\": \"a1b2\", \"streams\": [{\"name\": \"q60\", \"subject\": "
+      "\"tumble.v1.demo.poses.q60\", \"encoding\": \"quantized\", \"rate_hz\": 60.0, \"fields\": \"pose\", "
+      "\"key_interval_s\": 0.0, \"rest_key_interval_s\": 0.0}, {\"name\": \"d12\", \"subject\": "
+      "\"tumble.v1.demo.poses.d12\", \"encoding\": "
+      "\"delta\", \"rate_hz\": 12.5, \"fields\": \"all\", \"key_interval_s\": 1.0, \"rest_key_interval_s\": 30.0}], "
+      "\"events_subject\": "
+      "\"tumble.v1.demo.events\", \"rpc_subject\": \"tumble.v1.demo.rpc\", \"query_subject\": "
+      "\"tumble.v1.demo.query\", \"epoch\": 0, \"standby\": false, \"leader_id\": \"\"}\n");
+}
+
+TEST(WorldsOutput, AWorldKeptInJetStreamShowsItsLeaderWithItsEpochAndItsStandbys) {
+  tumble::v1::WorldInfo leader = demo_world();
+  leader.clear_streams();
+  leader.set_epoch(9);
+  leader.set_leader_id("a1b2");
+  tumble::v1::WorldInfo standby;
+  standby.set_world("demo");
+  standby.set_server_id("c3d4");
+  standby.set_standby(true);
+  standby.set_leader_id("a1b2");
+  standby.set_epoch(9);
+  tumble::v1::WorldInfo orphan = standby;  // a world whose leader is gone: only its standby answers
+  orphan.set_world("lab");
+  orphan.set_server_id("e5f6");
+  EXPECT_EQ(format_world_table({leader, standby, orphan}),
+            "WORLD   TICK  RATE (Hz)  BODIES  STREAMS  LEADER          STANDBYS\n"
+            "demo   12345        240     901  -        a1b2 (epoch 9)  c3d4\n"
+            "lab        -          -       -  -        a1b2 (epoch 9)  e5f6\n");
 }
 
 tumble::v1::Stats stats_with_link() {
