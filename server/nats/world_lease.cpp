@@ -52,9 +52,7 @@ WorldLease::~WorldLease() {
   jsCtx_Destroy(jetstream_);
 }
 
-bool WorldLease::held() const {
-  return to_ns(Clock::now()) < held_until_ns_.load(std::memory_order_acquire);
-}
+bool WorldLease::held() const { return to_ns(Clock::now()) < held_until_ns_.load(std::memory_order_acquire); }
 
 std::string WorldLease::observed_leader() const {
   std::lock_guard lock(observed_mutex_);
@@ -81,8 +79,7 @@ sim::Status WorldLease::acquire() {
       jsOptions options;
       jsOptions_Init(&options);
       options.Wait = std::max<std::int64_t>(1, config_.renew.count());
-      if (jetstream_ == nullptr &&
-          natsConnection_JetStream(&jetstream_, link_.connection(), &options) != NATS_OK) {
+      if (jetstream_ == nullptr && natsConnection_JetStream(&jetstream_, link_.connection(), &options) != NATS_OK) {
         return sim::Status::error("--nats-state: cannot make a JetStream context for the lease");
       }
       if (js_KeyValue(&bucket_, jetstream_, config_.bucket.c_str()) == NATS_OK) break;
@@ -119,7 +116,8 @@ sim::Status WorldLease::acquire() {
       }
       observed_epoch_.store(parsed && lease.epoch() != 0 ? lease.epoch() : revision, std::memory_order_relaxed);
       if (leader != said_leader) {
-        if (!leader.empty()) log_.info("standby for world {}: {} leads it (epoch {})", config_.world, leader, observed_epoch());
+        if (!leader.empty())
+          log_.info("standby for world {}: {} leads it (epoch {})", config_.world, leader, observed_epoch());
         said_leader = leader;
       }
       take_over = revision;
