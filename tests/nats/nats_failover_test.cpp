@@ -46,8 +46,8 @@ std::vector<Seen> seen_frames(NatsCollector& stream, std::optional<std::uint32_t
     const tumble::v1::PoseFrame frame = parse(message.data).pose_frame();
     for (int i = 0; i < frame.ids_size(); ++i) {
       if (crate && frame.ids(i) != *crate) continue;
-      seen.push_back({frame.epoch(), frame.tick(), frame.sim_time(), frame.positions(3 * i),
-                      frame.linear_velocities(3 * i)});
+      seen.push_back(
+          {frame.epoch(), frame.tick(), frame.sim_time(), frame.positions(3 * i), frame.linear_velocities(3 * i)});
       break;
     }
   }
@@ -64,20 +64,11 @@ class NatsFailover : public ::testing::Test {
 
   // A tumbled for world "lab" that may wait as a standby: not waited for.
   std::unique_ptr<ChildProcess> start_server(const std::string& name, std::vector<std::string> args) {
-    std::vector<std::string> argv = {tumbled_path(),
-                                     "--scene",
-                                     dir_ + "/scene.json",
-                                     "--listen",
-                                     "127.0.0.1:0",
-                                     "--nats",
-                                     cluster_.urls(),
-                                     "--world",
-                                     "lab",
-                                     "--nats-state",
-                                     "--checkpoint-interval",
-                                     std::to_string(kCheckpointInterval),
-                                     "--nats-stream",
-                                     "f=full@60:all"};
+    std::vector<std::string> argv = {
+        tumbled_path(),  "--scene",      dir_ + "/scene.json",    "--listen",
+        "127.0.0.1:0",   "--nats",       cluster_.urls(),         "--world",
+        "lab",           "--nats-state", "--checkpoint-interval", std::to_string(kCheckpointInterval),
+        "--nats-stream", "f=full@60:all"};
     argv.insert(argv.end(), args.begin(), args.end());
     return std::make_unique<ChildProcess>(argv, dir_ + "/" + name + ".log");
   }

@@ -230,5 +230,53 @@ TEST(NatsStateCluster, TheBucketHasThreeReplicasAndNoCheckpointIsLostWhenANodeIs
   EXPECT_GE(last->state.tick(), after->state.tick());
 }
 
+TEST(NatsStateCluster, AfterTheWholeClusterAndTheServerRestartTheWorldGoesOnFromItsLastCheckpoint) {
+  NatsCluster cluster({}, /*jetstream=*/true);
+  ASSERT_TRUE(cluster.start()) << cluster.node(0).log();
+  const std::vector<std::string> args = {"--nats",       cluster.urls(),          "--world", "lab",
+                                         "--nats-state", "--checkpoint-interval", "0.1"};
+  std::optional<Checkpoint> last;
+  {
+    TumbledProcess tumbled(kFloatingScene, args);
+    ASSERT_TRUE(tumbled.started()) << tumbled.log();
+    NatsTestClient client(cluster.node(1).url());
+    // 480 N for one tick of 1/240 s on 2 kg: the crate drifts at 1 m/s.
+    std::optional<std::string> reply;
+    ASSERT_TRUE(poll_until([&] {
+      reply = client.request("tumble.v1.lab.rpc", force_request("crate", 480, 1), std::chrono::milliseconds(500));
+      return reply.has_value();
+    }));
+    ASSERT_TRUE(parse(*reply).has_ack()) << parse(*reply).DebugString();
+    const std::uint64_t pushed = parse(*reply).ack().applied_tick();
+    ASSERT_TRUE(poll_until([&] {
+      last = checkpoint_of(client);
+      return last && last->state.tick() > pushed;
+    }));
+    // Everything goes at once: the server first, then every node.
+    tumbled.process().signal(SIGKILL);
+    tumbled.process().wait(std::chrono::seconds(10));
+    last = checkpoint_of(client);
+    ASSERT_TRUE(last);
+  }
+  for (std::size_t i = 0; i < 3; ++i) cluster.node(i).kill();
+  ASSERT_TRUE(cluster.start()) << cluster.node(0).log();
+
+  // The scene is not used: the world resumes from the checkpoint, where the crate drifts on.
+  TumbledProcess again(kFloatingScene, args);
+  ASSERT_TRUE(again.started()) << again.log();
+  EXPECT_NE(again.log().find("from bucket tumble_worlds, key lab"), std::string::npos) << again.log();
+  NatsTestClient client(cluster.node(2).url());
+  std::optional<Checkpoint> later;
+  ASSERT_TRUE(poll_until([&] {
+    later = checkpoint_of(client);
+    return later && later->state.tick() > last->state.tick();
+  }));
+  const tumble::v1::SavedBody* crate = body_named(later->state, "crate");
+  ASSERT_NE(crate, nullptr);
+  EXPECT_DOUBLE_EQ(crate->linear_momentum().x(), 2.0);
+  EXPECT_NEAR(crate->spec().position().x() - body_named(last->state, "crate")->spec().position().x(),
+              later->state.sim_time() - last->state.sim_time(), 1e-9);
+}
+
 }  // namespace
 }  // namespace tumble::test
