@@ -49,9 +49,9 @@ std::string recorded_journal(const TempDir& dir, std::vector<std::size_t>* start
   starts->clear();
   for (std::size_t at = kMagicBytes; at < bytes.size();) {
     starts->push_back(at);
-    const std::uint32_t length =
-        static_cast<unsigned char>(bytes[at]) | static_cast<unsigned char>(bytes[at + 1]) << 8 |
-        static_cast<unsigned char>(bytes[at + 2]) << 16 | static_cast<unsigned char>(bytes[at + 3]) << 24;
+    // The record's length, little-endian; each byte widened before its shift.
+    std::uint32_t length = 0;
+    for (std::size_t i = 0; i < 4; ++i) length |= std::uint32_t{static_cast<unsigned char>(bytes[at + i])} << (8 * i);
     at += kHeadBytes + length;
   }
   return bytes;
