@@ -20,7 +20,11 @@
 #      container, as the controller, pushes the crate and reads it moving in
 #      five frames; then the node tumbled is connected to is SIGKILLed and
 #      tumbled reconnects to another, whose frames reach the host and a
-#      client container.
+#      client container;
+#   6. JetStream (the nodes run it, as in compose.nats.yaml): that node back,
+#      a leader (--nats-state) and a standby (--standby) for world demo;
+#      `tumble worlds` shows both; the leader is SIGKILLed and the standby
+#      leads with a larger epoch and publishes frames.
 # Then prints the runtime image size, the build time and the time of part 5.
 # Every container, volume and the network are removed at the end, whatever
 # happens.
@@ -205,7 +209,7 @@ NET=$RUN_ID-net
 cleanup() {
   # -v: tumbled's anonymous /data volumes too.
   podman rm -f -v -t 0 "$RUN_ID-1" "$RUN_ID-2" "$RUN_ID-nats-1" "$RUN_ID-nats-2" "$RUN_ID-nats-3" \
-    "$RUN_ID-tumbled" "$RUN_ID-client" >/dev/null 2>&1 || true
+    "$RUN_ID-tumbled" "$RUN_ID-client" "$RUN_ID-leader" "$RUN_ID-standby" >/dev/null 2>&1 || true
   podman volume rm -f "$VOLUME" >/dev/null 2>&1 || true
   podman network rm -f "$NET" >/dev/null 2>&1 || true
 }
@@ -423,8 +427,8 @@ for i in 1 2 3; do
   fi
   pm run -d --name "$RUN_ID-nats-$i" --network "$NET" --network-alias "nats-$i" "${ports[@]}" \
       -e TUMBLE_NATS_OBSERVER_PASSWORD -e TUMBLE_NATS_CONTROLLER_PASSWORD -e TUMBLE_NATS_TUMBLED_PASSWORD \
-      "$NATS_IMAGE" -c "$conf" --name "nats-$i" --cluster_name tumble --cluster nats://0.0.0.0:6222 \
-      --routes "$(IFS=,; echo "${routes[*]}")" >/dev/null \
+      "$NATS_IMAGE" -c "$conf" --name "nats-$i" --cluster_name tumble -js -sd /data/jetstream \
+      --cluster nats://0.0.0.0:6222 --routes "$(IFS=,; echo "${routes[*]}")" >/dev/null \
     || die "podman run nats-$i failed"
   NATS_PORT[$i]=$(podman port "$RUN_ID-nats-$i" 4222/tcp | head -n 1 | sed 's/.*://')
   [[ ${NATS_PORT[$i]} =~ ^[0-9]+$ ]] || die "no host port published for nats-$i"
@@ -535,6 +539,52 @@ frames=$(client 'tumble --world demo --json subscribe --count 3') \
   || { cat "$WORK/client.err" >&2; die "NATS: the client container read no frames after $node's SIGKILL"; }
 later "$frames" 3 || die "NATS: the client container's frames are not after tick $tick_killed: $frames"
 say "NATS: frames after the SIGKILL reach the host through nats-${others[0]} and nats-${others[1]}, and a client container"
+
+# ---- 8. The world kept in JetStream: a leader, a standby, a takeover -----
+# As compose.nats.yaml's tumbled and tumbled-standby: --nats-state (the
+# bucket needs all three nodes for its three replicas), then SIGKILL the
+# leader and the standby leads from the newest checkpoint.
+pm stop -t 20 "$RUN_ID-tumbled" >/dev/null || die "podman stop tumbled failed"
+pm start "$RUN_ID-$node" >/dev/null || die "podman start $node failed"
+NATS_PORT[$killed]=$(podman port "$RUN_ID-$node" 4222/tcp | head -n 1 | sed 's/.*://')
+all_nodes=$(nats_urls observer "$TUMBLE_NATS_OBSERVER_PASSWORD" "127.0.0.1:${NATS_PORT[1]}" \
+  "127.0.0.1:${NATS_PORT[2]}" "127.0.0.1:${NATS_PORT[3]}")
+for role in leader standby; do
+  args=(--nats-state)
+  [[ $role == standby ]] && args=(--standby)
+  pm run -d --name "$RUN_ID-$role" --network "$NET" --no-healthcheck --entrypoint tumbled "$IMAGE" \
+      --listen 0.0.0.0:7400 --scene /usr/share/tumble/scenes/demo.json --world demo "${args[@]}" \
+      --nats "$(nats_urls tumbled "$TUMBLE_NATS_TUMBLED_PASSWORD" "${INNER_ADDRS[@]}")" >/dev/null \
+    || die "podman run tumbled ($role) failed"
+  # The leader first: the standby defers to a lease somebody holds.
+  if [[ $role == leader ]]; then
+    led() {
+      nats_cli "$all_nodes" --json worlds 2>/dev/null \
+        | jq -se 'map(select(.world == "demo" and .epoch > 0 and (.standby | not))) | length == 1' >/dev/null
+    }
+    until_ok 120 led || { show_logs "$RUN_ID-leader"; die "JetStream: the leader did not lead world demo within 60 s"; }
+  fi
+done
+roles() {
+  nats_cli "$all_nodes" --json worlds 2>/dev/null \
+    | jq -sc '[.[] | select(.world == "demo") | {id: .server_id, standby, epoch}] | sort_by(.standby)'
+}
+has_standby() { roles | jq -e 'length == 2 and .[0].standby == false and .[1].standby == true' >/dev/null; }
+until_ok 60 has_standby || { show_logs "$RUN_ID-standby"; die "JetStream: no standby answered for world demo: $(roles)"; }
+before=$(roles)
+epoch_before=$(jq -r '.[0].epoch' <<<"$before")
+standby_id=$(jq -r '.[1].id' <<<"$before")
+say "JetStream: world demo has a leader (epoch $epoch_before) and a standby: $before"
+takeover_start=$SECONDS
+pm kill "$RUN_ID-leader" >/dev/null || die "podman kill of the leader failed"
+taken() {
+  roles | jq -e --arg id "$standby_id" --argjson e "$epoch_before" \
+    'length == 1 and .[0].id == $id and .[0].standby == false and .[0].epoch > $e' >/dev/null
+}
+until_ok 60 taken || { show_logs "$RUN_ID-standby"; die "JetStream: the standby did not take world demo over within 30 s: $(roles)"; }
+TAKEOVER_SECONDS=$((SECONDS - takeover_start))
+frames=$(nats_cli "$all_nodes" --world demo --json subscribe --count 3) || die "JetStream: no frames from the new leader"
+say "JetStream: the leader SIGKILLed, the standby leads (epoch $(roles | jq -r '.[0].epoch')) within $TAKEOVER_SECONDS s; frames: $(jq -sc '[.[].tick]' <<<"$frames")"
 CLUSTER_SECONDS=$((SECONDS - cluster_start))
 cleanup
 
@@ -542,4 +592,4 @@ trap - ERR
 echo "test-image: PASS"
 echo "runtime image: $IMAGE, $IMAGE_BYTES bytes ($((IMAGE_BYTES / 1000000)) MB)"
 echo "build time: $BUILD_SECONDS s"
-echo "NATS cluster part: $CLUSTER_SECONDS s"
+echo "NATS cluster part: $CLUSTER_SECONDS s (the standby's takeover: $TAKEOVER_SECONDS s)"
