@@ -5,6 +5,7 @@
 // on what the servers answer; the waits are bounded polls.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <fstream>
 #include <optional>
@@ -144,8 +145,20 @@ TEST_F(NatsFailover, TheStandbyLeadsAfterTheLeaderIsKilledAndTheWorldGoesOnFromI
     return parse(messages.back().data).pose_frame().tick() > ack.ack().applied_tick() + 2 * kTicksPerSecond;
   }));
 
+  // The CLI reads the stream too, through another node, and rides through.
+  const std::string cli_out = dir_ + "/subscribe.out";
+  ChildProcess cli(
+      {tumble_cli_path(), "--nats", cluster_.node(2).url(), "--world", "lab", "--json", "subscribe", "--stream", "f"},
+      cli_out, dir_ + "/subscribe.err");
+  const auto lines = [&] {
+    const std::string text = read_file(cli_out);
+    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+  };
+  ASSERT_TRUE(poll_until([&] { return lines() >= 10; })) << read_file(dir_ + "/subscribe.err");
+
   leader->signal(SIGKILL);
   leader->wait(std::chrono::seconds(10));
+  const std::size_t printed_before = lines();
   const auto taken = [&] {
     const auto seen = seen_frames(*stream);
     return !seen.empty() && seen.back().epoch > first->epoch();
@@ -177,6 +190,10 @@ TEST_F(NatsFailover, TheStandbyLeadsAfterTheLeaderIsKilledAndTheWorldGoesOnFromI
   }
   const Seen& last = seen.back();
   EXPECT_NEAR(last.crate_x - first_new->crate_x, last.sim_time - first_new->sim_time, 1e-3);
+
+  // The CLI printed the new leader's frames after the old one's (the old is gone).
+  EXPECT_TRUE(poll_until([&] { return lines() >= printed_before + 30; })) << read_file(dir_ + "/subscribe.err");
+  EXPECT_TRUE(cli.running()) << read_file(dir_ + "/subscribe.err");
 
   // The new leader answers for the world, with its epoch.
   const auto now = wait_for_roles(client, 0);
