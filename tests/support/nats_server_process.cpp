@@ -11,22 +11,31 @@
 
 namespace tumble::test {
 
-std::uint16_t free_loopback_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return 0;
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  address.sin_port = 0;
-  socklen_t length = sizeof(address);
-  std::uint16_t port = 0;
-  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
-      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
-    port = ntohs(address.sin_port);
+std::vector<std::uint16_t> free_loopback_ports(std::size_t count) {
+  // All bound at once, then released: the kernel hands out `count` different ports.
+  std::vector<int> sockets;
+  std::vector<std::uint16_t> ports;
+  for (std::size_t i = 0; i < count; ++i) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) break;
+    sockets.push_back(fd);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    address.sin_port = 0;
+    socklen_t length = sizeof(address);
+    if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
+        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+      break;
+    }
+    ports.push_back(ntohs(address.sin_port));
   }
-  ::close(fd);
-  return port;
+  for (const int fd : sockets) ::close(fd);
+  ports.resize(count, 0);
+  return ports;
 }
+
+std::uint16_t free_loopback_port() { return free_loopback_ports(1)[0]; }
 
 std::string nats_server_path() {
   for (const char* path : {"/usr/sbin/nats-server", "/usr/bin/nats-server", "/usr/local/bin/nats-server"}) {
@@ -87,13 +96,14 @@ void NatsServerProcess::kill() {
 }
 
 NatsCluster::NatsCluster(const NatsConfig& config, bool jetstream) : jetstream_(jetstream) {
-  const std::uint16_t cluster_ports[3] = {free_loopback_port(), free_loopback_port(), free_loopback_port()};
+  // Client ports 0-2 and cluster ports 3-5, all different.
+  const std::vector<std::uint16_t> ports = free_loopback_ports(6);
   for (std::size_t i = 0; i < 3; ++i) {
     std::vector<std::uint16_t> routes;
     for (std::size_t j = 0; j < 3; ++j) {
-      if (j != i) routes.push_back(cluster_ports[j]);
+      if (j != i) routes.push_back(ports[3 + j]);
     }
-    nodes_.push_back(std::make_unique<NatsServerProcess>(config, 0, cluster_ports[i], routes));
+    nodes_.push_back(std::make_unique<NatsServerProcess>(config, ports[i], ports[3 + i], routes));
     if (jetstream) nodes_.back()->enable_jetstream();
   }
 }

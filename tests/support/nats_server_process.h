@@ -19,6 +19,8 @@ namespace tumble::test {
 // A free TCP port of 127.0.0.1 at the time of the call (bound to port 0,
 // read back and released).
 std::uint16_t free_loopback_port();
+// `count` free ports, all different (bound together, then released).
+std::vector<std::uint16_t> free_loopback_ports(std::size_t count);
 
 // A node's configuration: the text of its configuration file, and what
 // nats-server's environment has for the file's $VARIABLE references

@@ -55,8 +55,12 @@ export async function listWorlds(nc, types, { stallMs = kWorldsStallMs, maxWaitM
 // answered instead.
 export async function findWorld(nc, types, name, options) {
   const worlds = await listWorlds(nc, types, options);
-  const world = worlds.find((info) => info.world === name);
+  // The leader's answer: a standby's (tumbled --standby) names no streams.
+  const world = worlds.find((info) => info.world === name && !info.standby);
   if (world) return world;
+  if (worlds.some((info) => info.world === name)) {
+    throw new ProtocolError(`world "${name}" has no leader now, only standbys (a takeover under way?)`);
+  }
   const others = worlds.map((info) => info.world).sort();  // replies come in any order
   throw new ProtocolError(`no world "${name}" answered on ${kWorldsSubject}` +
                           (others.length ? ` (worlds: ${others.join(", ")})` : " (no world answered)"));

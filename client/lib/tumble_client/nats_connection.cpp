@@ -445,11 +445,17 @@ Result<tumble::v1::Subscribed> NatsConnection::subscribe(const tumble::v1::Subsc
   }
   auto worlds = find_worlds(kWorldsQuietPeriod, timeout);
   if (!worlds) return worlds.failure();
-  const auto info =
-      std::find_if(worlds->begin(), worlds->end(), [&](const tumble::v1::WorldInfo& w) { return w.world() == world; });
+  // The leader's answer: a standby's (--nats-state) names no streams.
+  const auto info = std::find_if(worlds->begin(), worlds->end(),
+                                 [&](const tumble::v1::WorldInfo& w) { return w.world() == world && !w.standby(); });
   if (info == worlds->end()) {
+    const bool standbys =
+        std::any_of(worlds->begin(), worlds->end(), [&](const tumble::v1::WorldInfo& w) { return w.world() == world; });
     return Failure{FailureKind::connect,
-                   "no server answered for world '" + world + "' on " + std::string(kWorldsSubject)};
+                   standbys ? "world '" + world +
+                                  "' has no leader now, only standbys (a "
+                                  "takeover under way?)"
+                            : "no server answered for world '" + world + "' on " + std::string(kWorldsSubject)};
   }
   if (info->streams().empty()) {
     return Failure{FailureKind::invalid_argument, "world '" + world + "' publishes no pose stream"};
