@@ -9,13 +9,16 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nats/nats.h>
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
 #include "nats_server_process.h"
+#include "nats_test_client.h"
 #include "poll_until.h"
 #include "process.h"
 #include "scoped_env.h"
+#include "tumble/v1/world_info.pb.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -336,6 +339,37 @@ TEST_F(NatsCliWorld, SubscribeReadsEachEncodingToThePosesOfTheWorld) {
       EXPECT_NEAR(body(frame, "ball")["position"][2].get<double>(), 50.0, 1e-3) << stream << ": " << lines[i];
     }
   }
+}
+
+// Answers tumble.v1.worlds as a standby of world "lab" would (tumbled
+// --standby): no streams, and an id that sorts before any other.
+void answer_as_standby(natsConnection* connection, natsSubscription*, natsMsg* message, void*) {
+  tumble::v1::WorldInfo info;
+  info.set_world("lab");
+  info.set_server_id("0000000000000000");
+  info.set_standby(true);
+  const std::string bytes = info.SerializeAsString();
+  if (natsMsg_GetReply(message) != nullptr) {
+    natsConnection_Publish(connection, natsMsg_GetReply(message), bytes.data(), static_cast<int>(bytes.size()));
+  }
+  natsMsg_Destroy(message);
+}
+
+TEST_F(NatsCliWorld, SubscribeReadsTheLeadersStreamsWhenAStandbyAnswersToo) {
+  NatsTestClient standby(nats_.url());
+  ASSERT_TRUE(standby.connected());
+  natsSubscription* subscription = nullptr;
+  ASSERT_EQ(
+      natsConnection_Subscribe(&subscription, standby.connection(), "tumble.v1.worlds", &answer_as_standby, nullptr),
+      NATS_OK);
+  ASSERT_EQ(standby.flush(), NATS_OK);
+  const CommandResult result = over_nats({"--json", "subscribe", "--stream", "f30", "--count", "2"});
+  EXPECT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_EQ(lines_of(result.out).size(), 2u) << result.out;
+  const CommandResult table = tumble({"--nats", nats_.url(), "worlds"});
+  EXPECT_NE(table.out.find("STANDBYS"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("0000000000000000"), std::string::npos) << table.out;
+  natsSubscription_Destroy(subscription);
 }
 
 TEST_F(NatsCliWorld, StatsThroughNatsShowTheLink) {
