@@ -263,6 +263,30 @@ test("the world is found by name among the worlds that answer", async () => {
   await alone.close();
 });
 
+test("a standby's answer (tumbled --standby: no streams) is passed over for the leader's", async () => {
+  const servers = [await connectAs("tumbled"), await connectAs("tumbled")];
+  const leader = new FakeWorld(servers[0], "kept");
+  // The standby answers first, for "kept" and for "orphan", whose leader is gone.
+  const standby = ["kept", "orphan"].map((world) => types.WorldInfo.fromObject({ world, serverId: "0000", standby: true }));
+  const subscription = servers[1].subscribe("tumble.v1.worlds", { callback: (error, message) => {
+    if (error) return;
+    message.respond(types.WorldInfo.encode(standby[0]).finish());
+  } });
+  const page = await connectAs("observer");
+  try {
+    const found = await findWorld(page, types, "kept");
+    assert.equal(found.serverId, "test-kept");
+    assert.equal(found.streams[0].subject, "tumble.v1.kept.poses.d60");
+    standby.reverse();  // now it answers for "orphan" only
+    await assert.rejects(findWorld(page, types, "orphan"), /world "orphan" has no leader now, only standbys/);
+  } finally {
+    subscription.unsubscribe();
+    leader.close();
+    await page.close();
+    for (const server of servers) await server.close();
+  }
+});
+
 test("a DELTA stream joined late shows nothing until a key frame, then exactly the server's state", async () => {
   const server = await connectAs("tumbled");
   const world = new FakeWorld(server, "late");
