@@ -37,6 +37,11 @@ NatsLink::~NatsLink() {
   if (connection_) {
     closing_.store(true, std::memory_order_relaxed);
     natsConnection_Close(connection_);
+    // nats.c calls on_closed later, on a thread of its own: this link must
+    // outlive that call.
+    std::unique_lock lock(closed_mutex_);
+    closed_wakeup_.wait_for(lock, std::chrono::seconds(5), [this] { return closed_; });
+    lock.unlock();
     natsConnection_Destroy(connection_);
   }
   for (auto& subscription : subscriptions_) natsSubscription_Destroy(subscription->handle);
@@ -194,6 +199,10 @@ void NatsLink::on_reconnected(natsConnection*, void* closure) {
 void NatsLink::on_closed(natsConnection*, void* closure) {
   auto* self = static_cast<NatsLink*>(closure);
   self->up_.store(false, std::memory_order_relaxed);
+  // Last: the destructor may free the link as soon as it sees this.
+  const std::lock_guard lock(self->closed_mutex_);
+  self->closed_ = true;
+  self->closed_wakeup_.notify_all();
 }
 
 void NatsLink::on_error(natsConnection*, natsSubscription*, natsStatus status, void* closure) {

@@ -16,10 +16,13 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -128,6 +131,10 @@ class NatsLink {
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::atomic<bool> up_{false};
   std::atomic<bool> closing_{false};  // the destructor is closing the connection
+  // Set by on_closed, nats.c's last call about the connection.
+  std::mutex closed_mutex_;
+  std::condition_variable closed_wakeup_;
+  bool closed_ = false;
   std::atomic<std::uint64_t> messages_out_{0};
   std::atomic<std::uint64_t> bytes_out_{0};
   std::atomic<std::uint64_t> reconnects_{0};
