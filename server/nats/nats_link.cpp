@@ -39,8 +39,12 @@ NatsLink::~NatsLink() {
     natsConnection_Close(connection_);
     // nats.c calls on_closed later, on a thread of its own: this link must
     // outlive that call.
+    // Likewise a subscription's handler may still be running on its
+    // dispatcher thread: wait for nats.c to say each one has returned.
     std::unique_lock lock(closed_mutex_);
-    closed_wakeup_.wait_for(lock, std::chrono::seconds(5), [this] { return closed_; });
+    closed_wakeup_.wait_for(lock, std::chrono::seconds(5), [this] {
+      return closed_ && subscriptions_completed_ == subscriptions_.size();
+    });
     lock.unlock();
     natsConnection_Destroy(connection_);
   }
@@ -106,13 +110,19 @@ sim::Status NatsLink::start() {
 sim::Status NatsLink::subscribe(const std::string& subject, const std::string& queue_group,
                                 std::function<void(NatsRequest)> handler) {
   auto subscription = std::make_unique<Subscription>();
+  subscription->link = this;
   subscription->handler = std::move(handler);
-  const natsStatus status =
+  natsStatus status =
       queue_group.empty()
           ? natsConnection_Subscribe(&subscription->handle, connection_, subject.c_str(), &NatsLink::on_message,
                                      subscription.get())
           : natsConnection_QueueSubscribe(&subscription->handle, connection_, subject.c_str(), queue_group.c_str(),
                                           &NatsLink::on_message, subscription.get());
+  if (status == NATS_OK) {
+    status = natsSubscription_SetOnCompleteCB(subscription->handle, &NatsLink::on_subscription_complete,
+                                              subscription.get());
+    if (status != NATS_OK) natsSubscription_Destroy(subscription->handle);
+  }
   if (status != NATS_OK) return failed("subscribing to " + subject, status);
   subscriptions_.push_back(std::move(subscription));
   return {};
@@ -219,6 +229,13 @@ void NatsLink::on_message(natsConnection*, natsSubscription*, natsMsg* message, 
                       std::string(natsMsg_GetData(message), static_cast<std::size_t>(natsMsg_GetDataLength(message)))};
   natsMsg_Destroy(message);
   subscription->handler(std::move(request));
+}
+
+void NatsLink::on_subscription_complete(void* closure) {
+  NatsLink& link = *static_cast<Subscription*>(closure)->link;
+  const std::lock_guard lock(link.closed_mutex_);
+  ++link.subscriptions_completed_;
+  link.closed_wakeup_.notify_all();
 }
 
 }  // namespace tumble::nats

@@ -116,10 +116,12 @@ class NatsLink {
   static void on_closed(natsConnection* connection, void* closure);
   static void on_error(natsConnection* connection, natsSubscription* subscription, natsStatus status, void* closure);
   static void on_message(natsConnection* connection, natsSubscription* subscription, natsMsg* message, void* closure);
+  static void on_subscription_complete(void* closure);
   // nats.c's last error on the connection, for a log line.
   std::string last_error() const;
 
   struct Subscription {
+    NatsLink* link = nullptr;
     std::function<void(NatsRequest)> handler;
     natsSubscription* handle = nullptr;
   };
@@ -131,10 +133,13 @@ class NatsLink {
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::atomic<bool> up_{false};
   std::atomic<bool> closing_{false};  // the destructor is closing the connection
-  // Set by on_closed, nats.c's last call about the connection.
+  // Set by on_closed, nats.c's last call about the connection, and by
+  // on_subscription_complete, its last call about a subscription (no
+  // handler runs after it).
   std::mutex closed_mutex_;
   std::condition_variable closed_wakeup_;
   bool closed_ = false;
+  std::size_t subscriptions_completed_ = 0;
   std::atomic<std::uint64_t> messages_out_{0};
   std::atomic<std::uint64_t> bytes_out_{0};
   std::atomic<std::uint64_t> reconnects_{0};

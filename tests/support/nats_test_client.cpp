@@ -8,9 +8,21 @@ namespace tumble::test {
 NatsCollector::~NatsCollector() {
   release();
   if (subscription_) {
-    natsSubscription_Unsubscribe(subscription_);
+    // on_message may be running on the subscription's thread: this
+    // collector must outlive it, so wait for nats.c's word that it is done.
+    if (natsSubscription_Unsubscribe(subscription_) == NATS_OK) {
+      std::unique_lock lock(mutex_);
+      changed_.wait_for(lock, std::chrono::seconds(10), [this] { return complete_; });
+    }
     natsSubscription_Destroy(subscription_);
   }
+}
+
+void NatsCollector::on_complete(void* closure) {
+  auto* self = static_cast<NatsCollector*>(closure);
+  const std::lock_guard lock(self->mutex_);
+  self->complete_ = true;
+  self->changed_.notify_all();
 }
 
 void NatsCollector::on_message(natsConnection*, natsSubscription*, natsMsg* message, void* closure) {
@@ -163,6 +175,9 @@ std::unique_ptr<NatsCollector> NatsTestClient::subscribe(const std::string& subj
   std::unique_ptr<NatsCollector> collector(new NatsCollector());
   natsStatus status = natsConnection_Subscribe(&collector->subscription_, connection_, subject.c_str(),
                                                &NatsCollector::on_message, collector.get());
+  if (status == NATS_OK) {
+    status = natsSubscription_SetOnCompleteCB(collector->subscription_, &NatsCollector::on_complete, collector.get());
+  }
   if (status == NATS_OK && pending_messages > 0) {
     status = natsSubscription_SetPendingLimits(collector->subscription_, pending_messages, pending_bytes);
   }

@@ -56,12 +56,14 @@ class NatsCollector {
   friend class NatsTestClient;
   NatsCollector() = default;
   static void on_message(natsConnection* connection, natsSubscription* subscription, natsMsg* message, void* closure);
+  static void on_complete(void* closure);
 
   natsSubscription* subscription_ = nullptr;
   std::mutex mutex_;
   std::condition_variable changed_;
   std::vector<NatsMessage> messages_;
   bool held_ = false;
+  bool complete_ = false;  // nats.c will not call on_message again
 };
 
 class NatsTestClient {
