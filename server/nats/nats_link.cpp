@@ -42,9 +42,8 @@ NatsLink::~NatsLink() {
     // Likewise a subscription's handler may still be running on its
     // dispatcher thread: wait for nats.c to say each one has returned.
     std::unique_lock lock(closed_mutex_);
-    closed_wakeup_.wait_for(lock, std::chrono::seconds(5), [this] {
-      return closed_ && subscriptions_completed_ == subscriptions_.size();
-    });
+    closed_wakeup_.wait_for(lock, std::chrono::seconds(5),
+                            [this] { return closed_ && subscriptions_completed_ == subscriptions_.size(); });
     lock.unlock();
     natsConnection_Destroy(connection_);
   }
@@ -119,8 +118,8 @@ sim::Status NatsLink::subscribe(const std::string& subject, const std::string& q
           : natsConnection_QueueSubscribe(&subscription->handle, connection_, subject.c_str(), queue_group.c_str(),
                                           &NatsLink::on_message, subscription.get());
   if (status == NATS_OK) {
-    status = natsSubscription_SetOnCompleteCB(subscription->handle, &NatsLink::on_subscription_complete,
-                                              subscription.get());
+    status =
+        natsSubscription_SetOnCompleteCB(subscription->handle, &NatsLink::on_subscription_complete, subscription.get());
     if (status != NATS_OK) natsSubscription_Destroy(subscription->handle);
   }
   if (status != NATS_OK) return failed("subscribing to " + subject, status);
