@@ -167,22 +167,32 @@ sim::Status start_world(const ServerOptions& options, spdlog::logger& log, Ready
     log.info("recording commands to {}", options.record_path);
   }
 
-  if (!options.state_path.empty() && options.checkpoint_interval_seconds > 0) {
-    world->checkpoints = std::make_unique<sim::StateSaver>(options.state_path);
+  if (options.checkpoint_interval_seconds > 0 && (!options.state_path.empty() || kept != nullptr)) {
+    world->checkpoints = options.state_path.empty() ? std::make_unique<sim::StateSaver>(kept->destination, kept->write)
+                                                    : std::make_unique<sim::StateSaver>(options.state_path);
     sim::StateSaver* saver = world->checkpoints.get();
     simulation.set_checkpoints(
         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
             std::chrono::duration<double>(options.checkpoint_interval_seconds)),
-        [saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
-    log.info("checkpointing the world to {} every {} s", options.state_path, options.checkpoint_interval_seconds);
-  } else if (kept != nullptr && options.checkpoint_interval_seconds > 0) {
-    world->checkpoints = std::make_unique<sim::StateSaver>(kept->destination, kept->write);
-    sim::StateSaver* saver = world->checkpoints.get();
-    simulation.set_checkpoints(
-        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-            std::chrono::duration<double>(options.checkpoint_interval_seconds)),
-        [saver](std::shared_ptr<const tumble::v1::WorldState> state) { saver->offer(std::move(state)); });
-    log.info("checkpointing the world to {} every {} s", kept->destination, options.checkpoint_interval_seconds);
+        [saver](std::shared_ptr<const tumble::v1::WorldState> state, std::chrono::steady_clock::duration capture) {
+          saver->offer(std::move(state), capture);
+        });
+    // The saver outlives the sim thread that calls the hook (ReadyWorld).
+    simulation.add_stats_hook([saver, interval = options.checkpoint_interval_seconds](tumble::v1::Stats* stats) {
+      const sim::StateSaver::Report report = saver->report();
+      tumble::v1::Checkpoints& checkpoints = *stats->mutable_checkpoints();
+      checkpoints.set_destination(saver->destination());
+      checkpoints.set_interval_s(interval);
+      checkpoints.set_written(report.written);
+      checkpoints.set_failed(report.failed);
+      checkpoints.set_last_tick(report.last_tick);
+      checkpoints.set_last_bytes(report.last_bytes);
+      checkpoints.set_last_write_ms(report.last_write_ms);
+      checkpoints.set_write_ms_max(report.write_ms_max);
+      checkpoints.set_last_capture_ms(report.last_capture_ms);
+      checkpoints.set_capture_ms_max(report.capture_ms_max);
+    });
+    log.info("checkpointing the world to {} every {} s", saver->destination(), options.checkpoint_interval_seconds);
   }
   return {};
 }

@@ -251,6 +251,26 @@ std::string format_stats(const tumble::v1::Stats& stats) {
   for (const auto& row : rows) width = std::max(width, row.first.size());
   std::string out;
   for (const auto& [label, value] : rows) out += pad_right(label, width) + "  " + value + "\n";
+  if (stats.has_checkpoints()) {
+    const tumble::v1::Checkpoints& checkpoints = stats.checkpoints();
+    const std::vector<std::pair<std::string, std::string>> saved = {
+        {"to", checkpoints.destination()},
+        {"every", fixed(checkpoints.interval_s(), 3) + " s"},
+        {"written", std::to_string(checkpoints.written())},
+        {"failed", std::to_string(checkpoints.failed())},
+        {"last", checkpoints.written() == 0 ? "-"
+                                            : "tick " + std::to_string(checkpoints.last_tick()) + ", " +
+                                                  std::to_string(checkpoints.last_bytes()) + " bytes"},
+        {"capture",
+         fixed(checkpoints.last_capture_ms(), 3) + " ms (longest " + fixed(checkpoints.capture_ms_max(), 3) + " ms)"},
+        {"write",
+         fixed(checkpoints.last_write_ms(), 3) + " ms (longest " + fixed(checkpoints.write_ms_max(), 3) + " ms)"},
+    };
+    width = 0;
+    for (const auto& row : saved) width = std::max(width, row.first.size());
+    out += "checkpoints\n";
+    for (const auto& [label, value] : saved) out += "  " + pad_right(label, width) + "  " + value + "\n";
+  }
   if (!stats.has_nats()) return out;
   const tumble::v1::NatsLink& nats = stats.nats();
   const std::vector<std::pair<std::string, std::string>> link = {
@@ -292,6 +312,21 @@ Json stats_json(const tumble::v1::Stats& stats) {
   out["connections_refused"] = stats.connections_refused();
   out["clients_closed_for_errors"] = stats.clients_closed_for_errors();
   out["bytes_sent"] = stats.bytes_sent();
+  if (stats.has_checkpoints()) {
+    const tumble::v1::Checkpoints& checkpoints = stats.checkpoints();
+    Json saved = Json::object();
+    saved["destination"] = checkpoints.destination();
+    saved["interval_s"] = checkpoints.interval_s();
+    saved["written"] = checkpoints.written();
+    saved["failed"] = checkpoints.failed();
+    saved["last_tick"] = checkpoints.last_tick();
+    saved["last_bytes"] = checkpoints.last_bytes();
+    saved["last_write_ms"] = checkpoints.last_write_ms();
+    saved["write_ms_max"] = checkpoints.write_ms_max();
+    saved["last_capture_ms"] = checkpoints.last_capture_ms();
+    saved["capture_ms_max"] = checkpoints.capture_ms_max();
+    out["checkpoints"] = std::move(saved);
+  }
   if (stats.has_nats()) {
     const tumble::v1::NatsLink& nats = stats.nats();
     Json link = Json::object();

@@ -43,9 +43,10 @@ void RunRecord::checkpoint_if_due() {
   // A paused, untouched world is already on disk.
   if (world_version_ == checkpointed_version_) return;
   checkpointed_version_ = world_version_;
+  const Clock::time_point start = Clock::now();
   auto state = std::make_shared<tumble::v1::WorldState>();
   capture_(state.get());
-  checkpoint_sink_(std::move(state));
+  checkpoint_sink_(std::move(state), Clock::now() - start);
 }
 
 }  // namespace tumble::sim

@@ -22,7 +22,8 @@ namespace tumble::sim {
 class RunRecord {
  public:
   using Clock = std::chrono::steady_clock;
-  using CheckpointSink = std::function<void(std::shared_ptr<const tumble::v1::WorldState>)>;
+  // Takes a captured world and how long the capture took on the sim thread.
+  using CheckpointSink = std::function<void(std::shared_ptr<const tumble::v1::WorldState>, Clock::duration)>;
   using Capture = std::function<void(tumble::v1::WorldState*)>;
 
   // Not owned; must outlive the record, or until finish().

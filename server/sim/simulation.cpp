@@ -84,8 +84,7 @@ void Simulation::capture(tumble::v1::WorldState* state) const {
 
 void Simulation::set_journal(JournalWriter* journal) { record_.set_journal(journal); }
 
-void Simulation::set_checkpoints(std::chrono::steady_clock::duration interval,
-                                 std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink) {
+void Simulation::set_checkpoints(std::chrono::steady_clock::duration interval, RunRecord::CheckpointSink sink) {
   record_.set_checkpoints(interval, std::move(sink), [this](tumble::v1::WorldState* state) { capture(state); });
 }
 

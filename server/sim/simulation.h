@@ -127,10 +127,9 @@ class Simulation {
   void set_journal(JournalWriter* journal);
 
   // Set before start(): every `interval` of wall time (while the world
-  // changes) the sim thread captures the world and hands it to `sink`, which
-  // must not block (e.g. StateSaver::offer).
-  void set_checkpoints(std::chrono::steady_clock::duration interval,
-                       std::function<void(std::shared_ptr<const tumble::v1::WorldState>)> sink);
+  // changes) the sim thread captures the world and hands it to `sink` with
+  // the time the capture took; `sink` must not block (e.g. StateSaver::offer).
+  void set_checkpoints(std::chrono::steady_clock::duration interval, RunRecord::CheckpointSink sink);
 
   // The whole world as it is now. On the sim thread, or while not started.
   void capture(tumble::v1::WorldState* state) const;

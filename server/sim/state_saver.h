@@ -7,6 +7,7 @@
 // Thread: offer() from any thread (the sim thread); stop() from the owner.
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <functional>
 #include <memory>
@@ -32,14 +33,30 @@ class StateSaver {
   StateSaver(const StateSaver&) = delete;
   StateSaver& operator=(const StateSaver&) = delete;
 
-  // Queues `state` to be written; never blocks on the disk.
-  void offer(std::shared_ptr<const tumble::v1::WorldState> state);
+  // Queues `state` to be written; never blocks on the disk. `capture` is
+  // how long the sim thread took to capture it, for the report.
+  void offer(std::shared_ptr<const tumble::v1::WorldState> state,
+             std::chrono::steady_clock::duration capture = std::chrono::steady_clock::duration::zero());
 
   // Writes what is still waiting, then ends the thread. Idempotent.
   void stop();
 
   // Checkpoints written so far (for logs and tests).
   std::uint64_t written() const;
+
+  // What the saver has done so far, for Stats.
+  struct Report {
+    std::uint64_t written = 0;
+    std::uint64_t failed = 0;
+    std::uint64_t last_tick = 0;   // of the last checkpoint written
+    std::uint64_t last_bytes = 0;  // its WorldState, encoded
+    double last_write_ms = 0;      // encoding and writing it
+    double write_ms_max = 0;
+    double last_capture_ms = 0;  // the sim thread's capture of the last one offered
+    double capture_ms_max = 0;
+  };
+  Report report() const;
+  const std::string& destination() const { return destination_; }
 
  private:
   void run();
@@ -50,7 +67,7 @@ class StateSaver {
   std::condition_variable wakeup_;
   std::shared_ptr<const tumble::v1::WorldState> waiting_;
   bool stopping_ = false;
-  std::uint64_t written_ = 0;
+  Report report_;
   std::thread thread_;
 };
 

@@ -262,6 +262,43 @@ TEST(ControlOutput, StatsAsJsonAndText) {
   EXPECT_NE(text.find("closed on errors  3\n"), std::string::npos) << text;
 }
 
+TEST(ControlOutput, CheckpointsAreABlockOfTheirOwnWhenTheServerWritesThem) {
+  tumble::v1::Stats stats = sample_stats();
+  EXPECT_EQ(format_stats(stats).find("checkpoints"), std::string::npos);
+  EXPECT_FALSE(stats_json(stats).contains("checkpoints"));
+  tumble::v1::Checkpoints& checkpoints = *stats.mutable_checkpoints();
+  checkpoints.set_destination("bucket tumble_worlds, key demo");
+  checkpoints.set_interval_s(1);
+  checkpoints.set_written(12);
+  checkpoints.set_failed(1);
+  checkpoints.set_last_tick(2880);
+  checkpoints.set_last_bytes(169004);
+  checkpoints.set_last_write_ms(3.25);
+  checkpoints.set_write_ms_max(9.5);
+  checkpoints.set_last_capture_ms(0.5);
+  checkpoints.set_capture_ms_max(1.25);
+
+  const std::string text = format_stats(stats);
+  const std::size_t block = text.find("\ncheckpoints\n");
+  ASSERT_NE(block, std::string::npos) << text;
+  EXPECT_EQ(text.substr(block + 1),
+            "checkpoints\n"
+            "  to       bucket tumble_worlds, key demo\n"
+            "  every    1.000 s\n"
+            "  written  12\n"
+            "  failed   1\n"
+            "  last     tick 2880, 169004 bytes\n"
+            "  capture  0.500 ms (longest 1.250 ms)\n"
+            "  write    3.250 ms (longest 9.500 ms)\n");
+  EXPECT_EQ(json_line(stats_json(stats)["checkpoints"]),
+            "{\"destination\": \"bucket tumble_worlds, key demo\", \"interval_s\": 1.0, \"written\": 12, "
+            "\"failed\": 1, \"last_tick\": 2880, \"last_bytes\": 169004, \"last_write_ms\": 3.25, "
+            "\"write_ms_max\": 9.5, \"last_capture_ms\": 0.5, \"capture_ms_max\": 1.25}\n");
+
+  checkpoints.set_written(0);
+  EXPECT_NE(format_stats(stats).find("  last     -\n"), std::string::npos) << "nothing written yet";
+}
+
 TEST(ControlOutput, AcksOfSpawnPauseAndStep) {
   tumble::v1::Ack ack;
   ack.set_request_id(2);

@@ -100,6 +100,17 @@ TEST(Persistence, CheckpointsBoundWhatAKillLoses) {
   ASSERT_TRUE(poll_until([&] { return checkpoint_tick(state) >= pushed + 180; }))
       << "no checkpoint 180 ticks after the impulse\n"
       << server.log();
+  // Stats say so too, once the saver has counted it.
+  json saved;
+  ASSERT_TRUE(poll_until([&] {
+    saved = run_json(server, {"stats"})["checkpoints"];
+    return saved["last_tick"].get<std::uint64_t>() >= pushed + 180;
+  })) << saved.dump();
+  EXPECT_EQ(saved["destination"], state);
+  EXPECT_EQ(saved["interval_s"], 0.25);
+  EXPECT_GE(saved["written"].get<std::uint64_t>(), 1u);
+  EXPECT_EQ(saved["failed"], 0);
+  EXPECT_GT(saved["last_bytes"].get<std::uint64_t>(), 0u);
   const std::uint64_t seen = run_json(server, {"stats"})["tick"].get<std::uint64_t>();
   server.process().signal(SIGKILL);
   ASSERT_EQ(server.process().wait(std::chrono::seconds(10)), 128 + SIGKILL);

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "cli_helpers.h"
+#include "clock_requests.h"
 #include "nats_messages.h"
 #include "nats_server_process.h"
 #include "nats_test_client.h"
@@ -110,6 +111,29 @@ TEST_F(NatsState, CheckpointsLandInTheBucketAndTheNextStartResumesFromTheLastOne
     return later && later->state.tick() > earlier->state.tick();
   }));
   EXPECT_GT(later->revision, earlier->revision);
+
+  // Stats say what was written. Paused, the world stops changing, so the
+  // last checkpoint reported comes to be the one the bucket holds.
+  const auto clock = [&](ClockRequest kind, std::uint64_t id) {
+    return parse(*client.request("tumble.v1.lab.rpc", clock_request(kind, id, 0).SerializeAsString()));
+  };
+  ASSERT_TRUE(clock(ClockRequest::pause, 5).has_ack());
+  std::optional<tumble::v1::Stats> now;
+  std::optional<Checkpoint> held;
+  ASSERT_TRUE(poll_until([&] {
+    now = stats(client);
+    held = checkpoint_of(client);
+    return now && held && held->state.tick() == now->tick() && now->checkpoints().last_tick() == now->tick();
+  })) << (now ? now->DebugString() : "no stats");
+  const tumble::v1::Checkpoints& saved = now->checkpoints();
+  EXPECT_EQ(saved.destination(), "bucket tumble_worlds, key lab");
+  EXPECT_DOUBLE_EQ(saved.interval_s(), 0.1);
+  EXPECT_GE(saved.written(), 2u);
+  EXPECT_EQ(saved.failed(), 0u);
+  EXPECT_EQ(saved.last_bytes(), held->state.ByteSizeLong());
+  EXPECT_GT(saved.last_write_ms(), 0.0);
+  EXPECT_GE(saved.write_ms_max(), saved.last_write_ms());
+  ASSERT_TRUE(clock(ClockRequest::resume, 6).has_ack());
 
   // 480 N for one tick of 1/240 s on 2 kg: the crate drifts at 1 m/s.
   const ServerMessage ack = parse(*client.request("tumble.v1.lab.rpc", force_request("crate", 480, 2)));

@@ -77,7 +77,10 @@ TEST(RunRecord, CheckpointsOnlyAWorldThatChanged) {
   // A zero interval: a checkpoint is due at every call, if the world changed.
   record.set_checkpoints(
       RunRecord::Clock::duration::zero(),
-      [&](std::shared_ptr<const tumble::v1::WorldState> state) { checkpoints.push_back(state->tick()); },
+      [&](std::shared_ptr<const tumble::v1::WorldState> state, RunRecord::Clock::duration capture) {
+        checkpoints.push_back(state->tick());
+        EXPECT_GE(capture, RunRecord::Clock::duration::zero());
+      },
       [&](tumble::v1::WorldState* state) { state->set_tick(static_cast<std::uint64_t>(++captures)); });
   record.checkpoint_if_due();  // the world as it starts is not on disk yet
   record.checkpoint_if_due();
@@ -89,11 +92,28 @@ TEST(RunRecord, CheckpointsOnlyAWorldThatChanged) {
   EXPECT_EQ(checkpoints, (std::vector<std::uint64_t>{1, 2}));
 }
 
+TEST(RunRecord, HandsTheSinkTheTimeTheCaptureTook) {
+  RunRecord record;
+  RunRecord::Clock::duration took{};
+  record.set_checkpoints(
+      RunRecord::Clock::duration::zero(),
+      [&](std::shared_ptr<const tumble::v1::WorldState>, RunRecord::Clock::duration capture) { took = capture; },
+      [](tumble::v1::WorldState*) {
+        const auto until = RunRecord::Clock::now() + std::chrono::milliseconds(3);
+        while (RunRecord::Clock::now() < until) {
+        }
+      });
+  record.checkpoint_if_due();
+  EXPECT_GE(took, std::chrono::milliseconds(3));
+  EXPECT_LT(took, std::chrono::seconds(10));
+}
+
 TEST(RunRecord, WaitsForTheIntervalBeforeACheckpoint) {
   RunRecord record;
   int checkpoints = 0;
   record.set_checkpoints(
-      std::chrono::hours(1), [&](std::shared_ptr<const tumble::v1::WorldState>) { ++checkpoints; },
+      std::chrono::hours(1),
+      [&](std::shared_ptr<const tumble::v1::WorldState>, RunRecord::Clock::duration) { ++checkpoints; },
       [](tumble::v1::WorldState*) {});
   record.note_change();
   record.checkpoint_if_due();
