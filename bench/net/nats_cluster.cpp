@@ -21,33 +21,43 @@ std::size_t count(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-std::uint16_t free_loopback_port() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return 0;
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof(address);
-  std::uint16_t port = 0;
-  if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0 &&
-      ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
-    port = ntohs(address.sin_port);
+std::vector<std::uint16_t> free_loopback_ports(std::size_t count) {
+  // Every socket stays bound until all are: the kernel hands out distinct ports.
+  std::vector<int> sockets;
+  std::vector<std::uint16_t> ports;
+  for (std::size_t i = 0; i < count; ++i) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) break;
+    sockets.push_back(fd);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof(address);
+    if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
+        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+      break;
+    }
+    ports.push_back(ntohs(address.sin_port));
   }
-  ::close(fd);
-  return port;
+  for (const int fd : sockets) ::close(fd);
+  ports.resize(count, 0);
+  return ports;
 }
 
-NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, int nice)
-    : path_(std::move(nats_server_path)), dir_(std::move(dir)), nice_(nice) {
+NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, NatsClusterOptions options)
+    : path_(std::move(nats_server_path)), dir_(std::move(dir)), options_(options) {
+  const std::vector<std::uint16_t> ports = free_loopback_ports(2 * kNodes);
   for (std::size_t i = 0; i < kNodes; ++i) {
-    client_ports_[i] = free_loopback_port();
-    cluster_ports_[i] = free_loopback_port();
+    client_ports_[i] = ports[i];
+    cluster_ports_[i] = ports[kNodes + i];
   }
   for (std::size_t i = 0; i < kNodes; ++i) {
     std::ofstream config(config_path(dir_, i));
     config << "listen: 127.0.0.1:" << client_ports_[i] << "\n"
-           << "server_name: tumble-bench-" << i << "\n"
-           << "cluster {\n"
+           << "server_name: tumble-bench-" << i << "\n";
+    if (options_.max_payload > 0) config << "max_payload: " << options_.max_payload << "\n";
+    if (options_.jetstream) config << "jetstream {\n  store_dir: \"" << dir_ << "/js" << i << "\"\n}\n";
+    config << "cluster {\n"
            << "  name: tumble-bench\n"
            << "  listen: 127.0.0.1:" << cluster_ports_[i] << "\n"
            << "  routes: [";
@@ -63,8 +73,8 @@ NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, int nice
 
 std::string NatsCluster::start(std::chrono::seconds timeout) {
   for (std::size_t i = 0; i < kNodes; ++i) {
-    nodes_[i] =
-        std::make_unique<ChildProcess>(std::vector<std::string>{path_, "-c", config_path(dir_, i)}, log_path(dir_, i));
+    nodes_[i] = std::make_unique<ChildProcess>(std::vector<std::string>{path_, "-c", config_path(dir_, i)},
+                                               log_path(dir_, i), options_.nice);
     if (!nodes_[i]->started()) return "cannot start " + path_;
   }
   // Ready, and a route to each of the two others (logged once per route).
@@ -72,7 +82,10 @@ std::string NatsCluster::start(std::chrono::seconds timeout) {
   for (std::size_t i = 0; i < kNodes; ++i) {
     for (;;) {
       const std::string log = read_text(log_path(dir_, i));
-      if (log.find("Server is ready") != std::string::npos && count(log, "Route connection created") >= kNodes - 1) {
+      const bool led = !options_.jetstream || log.find("JetStream cluster new metadata leader") != std::string::npos ||
+                       log.find("Self is new JetStream cluster metadata leader") != std::string::npos;
+      if (log.find("Server is ready") != std::string::npos && count(log, "Route connection created") >= kNodes - 1 &&
+          led) {
         break;
       }
       if (!nodes_[i]->running() || std::chrono::steady_clock::now() > deadline) {

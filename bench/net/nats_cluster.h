@@ -1,8 +1,9 @@
 // Three nats-server processes on 127.0.0.1 routed into one cluster, for
-// the NATS fan-out benchmark. Each node listens for clients on a free
-// port and for its peers on another, with routes to the other two (a
-// configuration file per node: listen, cluster { name, listen, routes });
-// everything else is nats-server's default (max_payload 1 MiB, a client's
+// the NATS benchmarks. Each node listens for clients on a free port and for
+// its peers on another, with routes to the other two (a configuration file
+// per node: listen, cluster { name, listen, routes }, and with JetStream a
+// store directory of its own); everything else is nats-server's default
+// unless NatsClusterOptions says otherwise (max_payload 1 MiB, a client's
 // outbound buffer max_pending 64 MiB, write_deadline 10 s: past either a
 // client is closed as a slow consumer). The nodes stop when the object goes.
 #pragma once
@@ -14,24 +15,32 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "child_process.h"
 
 namespace tumble::bench {
 
-// A TCP port of 127.0.0.1 free at the time of the call; 0 when none could be had.
-std::uint16_t free_loopback_port();
+// `count` distinct TCP ports of 127.0.0.1, free at the time of the call
+// (all bound at once, then released); 0 for each that could not be had.
+std::vector<std::uint16_t> free_loopback_ports(std::size_t count);
+
+struct NatsClusterOptions {
+  int nice = 0;                  // the nodes' nice value
+  bool jetstream = false;        // each node runs JetStream, its store under the cluster's directory
+  std::int64_t max_payload = 0;  // bytes a message may carry; 0: nats-server's default (1 MiB)
+};
 
 class NatsCluster {
  public:
   static constexpr std::size_t kNodes = 3;
 
   // Writes the nodes' configuration files under `dir`; nothing runs yet.
-  // The nodes will run at nice value `nice`.
-  NatsCluster(std::string nats_server_path, std::string dir, int nice = 0);
+  NatsCluster(std::string nats_server_path, std::string dir, NatsClusterOptions options = {});
 
   // Starts the three nodes and waits until each is ready and routed to both
-  // others. Empty on success, else why not (with the failing node's log).
+  // others (with JetStream, until the metadata leader is known to each).
+  // Empty on success, else why not (with the failing node's log).
   std::string start(std::chrono::seconds timeout);
 
   // nats://127.0.0.1:PORT of node i.
@@ -43,7 +52,7 @@ class NatsCluster {
  private:
   std::string path_;
   std::string dir_;
-  int nice_;
+  NatsClusterOptions options_;
   std::array<std::uint16_t, kNodes> client_ports_{};
   std::array<std::uint16_t, kNodes> cluster_ports_{};
   std::array<std::unique_ptr<ChildProcess>, kNodes> nodes_;

@@ -214,7 +214,7 @@ int main(int argc, char** argv) {
   const std::string dir = tumble::bench::make_temp_dir("nats_load");
   if (dir.empty()) fail("cannot make a temporary directory");
 
-  tumble::bench::NatsCluster cluster(options.nats_server, dir, options.nats_server_nice);
+  tumble::bench::NatsCluster cluster(options.nats_server, dir, {.nice = options.nats_server_nice});
   if (const std::string why = cluster.start(std::chrono::seconds(30)); !why.empty()) fail(why);
 
   const std::string tumbled_log = dir + "/tumbled.log";
