@@ -54,10 +54,10 @@ double number(const Report& report, const std::string& key) {
 TEST(NatsTakeoverSmoke, TwoKillsTakenOverAndCheckpointsMeasured) {
   if (nats_server_path().empty()) GTEST_SKIP() << "nats-server is not installed";
   int exit_code = -1;
-  const auto phases = run_nats_takeover({"--runs", "2", "--bodies", "20", "--sizes", "50", "--seconds", "2",
-                                         "--checkpoint-interval", "0.25", "--lease-renew", "0.2", "--lease-timeout",
-                                         "1"},
-                                        &exit_code);
+  const auto phases =
+      run_nats_takeover({"--runs", "2", "--bodies", "20", "--sizes", "50", "--seconds", "2", "--checkpoint-interval",
+                         "0.25", "--lease-renew", "0.2", "--lease-timeout", "1"},
+                        &exit_code);
   EXPECT_EQ(exit_code, 0);
   ASSERT_TRUE(phases.count("takeover") && phases.count("checkpoint"));
   const Report& takeover = phases.at("takeover");

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <csignal>
 #include <fstream>
 #include <optional>
+#include <thread>
 
 #include "cli_helpers.h"
 #include "nats_messages.h"
@@ -109,6 +111,55 @@ class NatsFailover : public ::testing::Test {
   std::string dir_;
 };
 
+// A controller pushing a body about every tick over .rpc, through its own
+// connection, on a thread of its own until stopped; it counts how each
+// push was answered.
+class Pusher {
+ public:
+  Pusher(const std::string& url, std::string body) : body_(std::move(body)), thread_([this, url] { run(url); }) {}
+  ~Pusher() { stop(); }
+
+  void stop() {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+  }
+  int acked() const { return acked_; }
+  int refused() const { return refused_; }        // at once: no server serves the world
+  int unanswered() const { return unanswered_; }  // no reply within the request's timeout
+  int other_errors() const { return other_errors_; }
+  bool connected() const { return connected_; }
+
+ private:
+  void run(const std::string& url) {
+    NatsTestClient controller(url);
+    connected_ = controller.connected();
+    for (std::uint64_t id = 1000; running_ && connected_; ++id) {
+      const auto reply =
+          controller.request("tumble.v1.lab.rpc", impulse_request(body_, 1e-4, id), std::chrono::seconds(2));
+      if (reply) {
+        tumble::v1::ServerMessage answer;
+        (answer.ParseFromString(*reply) && answer.has_ack() && answer.ack().request_id() == id ? acked_
+                                                                                               : other_errors_)++;
+      } else if (controller.last_status() == NATS_NO_RESPONDERS) {
+        ++refused_;
+      } else {
+        ++unanswered_;
+      }
+      // About a tick (1/240 s) between pushes: a load, not a wait for anything.
+      std::this_thread::sleep_for(std::chrono::milliseconds(4));
+    }
+  }
+
+  std::string body_;
+  std::atomic<bool> running_{true};
+  std::atomic<bool> connected_{false};
+  std::atomic<int> acked_{0};
+  std::atomic<int> refused_{0};
+  std::atomic<int> unanswered_{0};
+  std::atomic<int> other_errors_{0};
+  std::thread thread_;
+};
+
 // Across everything read: epochs never go back (a frame of an older
 // leader never follows one of a newer: one publisher at a time).
 void expect_one_publisher_at_a_time(const std::vector<Seen>& seen) {
@@ -156,6 +207,10 @@ TEST_F(NatsFailover, TheStandbyLeadsAfterTheLeaderIsKilledAndTheWorldGoesOnFromI
   };
   ASSERT_TRUE(poll_until([&] { return lines() >= 10; })) << read_file(dir_ + "/subscribe.err");
 
+  // Under load: a controller pushes the ball about every tick through node 2.
+  Pusher pusher(cluster_.node(2).url(), "ball");
+  ASSERT_TRUE(poll_until([&] { return pusher.acked() >= 20; })) << "the leader answers the pushes";
+
   leader->signal(SIGKILL);
   leader->wait(std::chrono::seconds(10));
   const std::size_t printed_before = lines();
@@ -164,6 +219,15 @@ TEST_F(NatsFailover, TheStandbyLeadsAfterTheLeaderIsKilledAndTheWorldGoesOnFromI
     return !seen.empty() && seen.back().epoch > first->epoch();
   };
   ASSERT_TRUE(poll_until(taken, std::chrono::seconds(20))) << log_of("b");
+  // The new leader answers the pushes, too.
+  const int acked_at_takeover = pusher.acked();
+  EXPECT_TRUE(poll_until([&] { return pusher.acked() >= acked_at_takeover + 20; })) << log_of("b");
+  pusher.stop();
+  // Every push was answered or refused at once while nobody led the world;
+  // only the one in flight when the leader died may have gone unanswered.
+  EXPECT_GT(pusher.refused(), 0) << "pushes in the gap are refused, not queued";
+  EXPECT_LE(pusher.unanswered(), 1);
+  EXPECT_EQ(pusher.other_errors(), 0);
   // A second of the new leader's frames.
   const std::uint64_t resumed_at = seen_frames(*stream).back().tick;
   ASSERT_TRUE(stream->wait([&](const std::vector<NatsMessage>& messages) {

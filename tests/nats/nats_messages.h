@@ -29,6 +29,16 @@ inline std::string force_request(const std::string& body, double fx, std::uint64
   return message.SerializeAsString();
 }
 
+// ApplyImpulse of `jy` newton-seconds along y on `body`, at its centre.
+inline std::string impulse_request(const std::string& body, double jy, std::uint64_t request_id) {
+  tumble::v1::ClientMessage message;
+  message.set_request_id(request_id);
+  auto& impulse = *message.mutable_apply_impulse();
+  impulse.mutable_body()->set_name(body);
+  impulse.mutable_impulse()->set_y(jy);
+  return message.SerializeAsString();
+}
+
 inline std::string stats_request(std::uint64_t request_id) {
   tumble::v1::ClientMessage message;
   message.set_request_id(request_id);

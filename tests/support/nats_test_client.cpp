@@ -108,6 +108,7 @@ NatsTestClient::~NatsTestClient() {
 }
 
 void NatsTestClient::note(natsStatus status) {
+  last_status_ = status;
   if (status == NATS_OK) {
     error_.clear();
     return;

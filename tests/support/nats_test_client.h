@@ -76,8 +76,10 @@ class NatsTestClient {
   NatsTestClient& operator=(const NatsTestClient&) = delete;
 
   bool connected() const { return connection_ != nullptr; }
-  // Why the last call failed (nats.c's text), or "".
+  // Why the last call failed (nats.c's text), or "", and its status
+  // (NATS_NO_RESPONDERS: nothing subscribes to a request's subject).
   const std::string& error() const { return error_; }
+  natsStatus last_status() const { return last_status_; }
 
   natsStatus publish(const std::string& subject, const std::string& data);
   // Flushes and waits for the server's answer: what was published before has reached it.
@@ -119,6 +121,7 @@ class NatsTestClient {
 
   natsConnection* connection_ = nullptr;
   std::string error_;
+  natsStatus last_status_ = NATS_OK;
 };
 
 }  // namespace tumble::test
