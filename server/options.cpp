@@ -254,6 +254,7 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
   if (!options.tokens.controller.empty() && options.tokens.controller == options.tokens.observer) {
     return usage_error("--token and --observer-token must differ: a client's role is told by its token");
   }
+  if (options.standby) options.nats_state = true;  // before anything that asks for --nats-state
   if (checkpoint_option->count() > 0 && options.state_path.empty() && !options.nats_state) {
     return usage_error("--checkpoint-interval needs --state or --nats-state: somewhere to write the checkpoints");
   }
@@ -265,7 +266,6 @@ ParsedServerOptions parse_server_options(int argc, const char* const* argv) {
     options.listen = listen_address(listen);
   }
   if (http_option->count() > 0) options.http = listen_address(http);
-  if (options.standby) options.nats_state = true;
   for (const CLI::Option* option : {bucket_option, replicas_option, reset_option, renew_option, timeout_option}) {
     if (option->count() > 0 && !options.nats_state) {
       return usage_error(option->get_name() + " needs --nats-state (or --standby)");

@@ -318,6 +318,11 @@ TEST_F(ServerOptionsTest, NatsStateCheckpointsEverySecondUnlessToldAndNeedsNoSta
   EXPECT_EQ(told.nats_bucket, "lab_worlds");
   EXPECT_EQ(told.nats_replicas, 3);
   EXPECT_TRUE(told.nats_state_reset);
+  // --standby implies --nats-state, for every option that needs it.
+  const ServerOptions standby =
+      options_of({"--nats", "nats://a:4222", "--world", "w", "--standby", "--checkpoint-interval", "0.5"});
+  EXPECT_TRUE(standby.nats_state);
+  EXPECT_DOUBLE_EQ(standby.checkpoint_interval_seconds, 0.5);
   EXPECT_NE(usage_error({"--nats", "nats://a:4222", "--world", "w", "--nats-state", "--nats-bucket", "a.b"})
                 .find("--nats-bucket: bucket name 'a.b' must be"),
             std::string::npos);
