@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <fstream>
 #include <optional>
 
 #include "cli_helpers.h"
@@ -17,6 +18,7 @@
 #include "sim/state_file.h"
 #include "tumble/v1/protocol.pb.h"
 #include "tumble/v1/state.pb.h"
+#include "tumble/v1/world_info.pb.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -214,7 +216,27 @@ TEST(NatsStateWithoutJetStream, TumbledSaysTheServerHasNoJetStreamAndExits) {
       << tumbled.log();
 }
 
-TEST(NatsStateCluster, TheBucketHasThreeReplicasAndNoCheckpointIsLostWhenANodeIsKilled) {
+// What answers tumble.v1.worlds for world "lab" through `client`: the
+// leader's WorldInfo (nullopt when none leads) and how many standbys answer.
+struct LabRoles {
+  std::optional<tumble::v1::WorldInfo> leader;
+  std::size_t standbys = 0;
+};
+LabRoles lab_roles(NatsTestClient& client) {
+  LabRoles roles;
+  for (const std::string& reply : client.request_many("tumble.v1.worlds", "")) {
+    tumble::v1::WorldInfo info;
+    if (!info.ParseFromString(reply) || info.world() != "lab") continue;
+    if (info.standby()) {
+      ++roles.standbys;
+    } else {
+      roles.leader = info;
+    }
+  }
+  return roles;
+}
+
+TEST(NatsStateCluster, TheBucketHasThreeReplicasNoCheckpointIsLostWhenANodeIsKilledAndTheNextTakeoverWorks) {
   NatsCluster cluster({}, /*jetstream=*/true);
   ASSERT_TRUE(cluster.start()) << cluster.node(0).log() << cluster.node(1).log() << cluster.node(2).log();
   // tumbled's node is node 0, the first URL.
@@ -248,10 +270,36 @@ TEST(NatsStateCluster, TheBucketHasThreeReplicasAndNoCheckpointIsLostWhenANodeIs
       },
       std::chrono::seconds(30)))
       << tumbled.log();
-  ASSERT_EQ(terminate(tumbled), 0) << tumbled.log();
+
+  // With that node still down, the next takeover works: a standby started
+  // now leads once the leader is killed, and goes on from its checkpoint.
+  LabRoles roles;
+  ASSERT_TRUE(poll_until([&] { return (roles = lab_roles(survivor)).leader.has_value(); }));
+  const std::uint64_t old_epoch = roles.leader->epoch();
+  const std::string dir = make_temp_dir();
+  std::ofstream(dir + "/scene.json") << kFloatingScene;
+  ChildProcess standby({tumbled_path(), "--scene", dir + "/scene.json", "--listen", "none", "--nats", cluster.urls(),
+                        "--world", "lab", "--standby", "--checkpoint-interval", "0.1"},
+                       dir + "/standby.log");
+  ASSERT_TRUE(poll_until([&] { return lab_roles(survivor).standbys == 1; })) << read_file(dir + "/standby.log");
+  const std::optional<Checkpoint> last_of_old = checkpoint_of(survivor);
+  ASSERT_TRUE(last_of_old);
+  tumbled.process().signal(SIGKILL);
+  ASSERT_EQ(tumbled.process().wait(std::chrono::seconds(10)), 128 + SIGKILL);
+  ASSERT_TRUE(poll_until([&] {
+    roles = lab_roles(survivor);
+    return roles.leader && roles.leader->epoch() > old_epoch;
+  })) << read_file(dir + "/standby.log");
+  std::optional<Checkpoint> of_new;
+  EXPECT_TRUE(poll_until([&] {
+    of_new = checkpoint_of(survivor);
+    return of_new && of_new->revision > last_of_old->revision && of_new->state.tick() > last_of_old->state.tick();
+  })) << read_file(dir + "/standby.log");
+  standby.signal(SIGTERM);
+  EXPECT_EQ(standby.wait(std::chrono::seconds(30)), 0) << read_file(dir + "/standby.log");
   const auto last = checkpoint_of(survivor);
   ASSERT_TRUE(last);
-  EXPECT_GE(last->state.tick(), after->state.tick());
+  EXPECT_GE(last->state.tick(), of_new->state.tick());
 }
 
 TEST(NatsStateCluster, AfterTheWholeClusterAndTheServerRestartTheWorldGoesOnFromItsLastCheckpoint) {
