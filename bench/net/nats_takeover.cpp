@@ -25,8 +25,8 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include <CLI/CLI.hpp>
 #include <nats/nats.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -261,8 +261,8 @@ class FrameLog {
     auto* self = static_cast<FrameLog*>(closure);
     const Clock::time_point arrived = Clock::now();
     tumble::v1::ServerMessage frame;
-    const bool decoded = frame.ParseFromArray(natsMsg_GetData(message), natsMsg_GetDataLength(message)) &&
-                         frame.has_pose_frame();
+    const bool decoded =
+        frame.ParseFromArray(natsMsg_GetData(message), natsMsg_GetDataLength(message)) && frame.has_pose_frame();
     natsMsg_Destroy(message);
     std::lock_guard lock(self->mutex_);
     if (!decoded) {
@@ -334,14 +334,14 @@ TakeoverResult measure_takeovers(const Options& options, tumble::bench::NatsClus
 
   unsigned started = 0;
   const auto start = [&](const std::vector<std::string>& args) {
-    auto process = std::make_unique<tumble::bench::ChildProcess>(
-        args, dir + "/tumbled" + std::to_string(started++) + ".log");
+    auto process =
+        std::make_unique<tumble::bench::ChildProcess>(args, dir + "/tumbled" + std::to_string(started++) + ".log");
     if (!process->started()) fail("cannot start " + options.tumbled);
     return process;
   };
   std::unique_ptr<tumble::bench::ChildProcess> leader = start(argv);
-  const auto led = frames.wait_for([](const FrameLog::Frame& frame) { return frame.epoch > 0; },
-                                   std::chrono::seconds(60));
+  const auto led =
+      frames.wait_for([](const FrameLog::Frame& frame) { return frame.epoch > 0; }, std::chrono::seconds(60));
   if (!led) fail("the first leader published no frame in 60 s");
   TakeoverResult result;
   result.first_epoch = led->epoch;
@@ -413,9 +413,8 @@ void run_world(const Options& options, tumble::bench::NatsCluster& cluster, cons
   const std::string world = "ckpt" + std::to_string(bodies) + (keep_state ? "s" : "n");
   const std::string scene = dir + "/" + world + ".json";
   std::ofstream(scene) << spinning_cubes_scene(bodies);
-  std::vector<std::string> argv = {options.tumbled, "--listen", "none",  "--scene",
-                                   scene,           "--nats",   cluster.urls(), "--world",
-                                   world};
+  std::vector<std::string> argv = {options.tumbled, "--listen",     "none",    "--scene", scene,
+                                   "--nats",        cluster.urls(), "--world", world};
   if (keep_state) {
     argv.insert(argv.end(), {"--nats-state", "--checkpoint-interval", number_text(options.checkpoint_interval_s)});
   }
@@ -428,8 +427,8 @@ void run_world(const Options& options, tumble::bench::NatsCluster& cluster, cons
         return stats.tick() > 0 && (!keep_state || stats.checkpoints().written() >= 1);
       });
   std::uint64_t seen = before.checkpoints().written();
-  const Clock::time_point end = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                                   std::chrono::duration<double>(options.seconds));
+  const Clock::time_point end =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(options.seconds));
   tumble::v1::Stats last = before;
   while (Clock::now() < end) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
@@ -493,8 +492,7 @@ int main(int argc, char** argv) {
 
   const std::string dir = tumble::bench::make_temp_dir("nats_takeover");
   if (dir.empty()) fail("cannot make a temporary directory");
-  tumble::bench::NatsCluster cluster(options.nats_server, dir,
-                                     {.jetstream = true, .max_payload = options.max_payload});
+  tumble::bench::NatsCluster cluster(options.nats_server, dir, {.jetstream = true, .max_payload = options.max_payload});
   if (const std::string why = cluster.start(std::chrono::seconds(60)); !why.empty()) fail(why);
 
   bool failed = false;
