@@ -5,9 +5,11 @@
 //
 //  1. Takeover, R times: a leader and a --standby of one world of B
 //     spinning cubes; a subscription on node 2 reads the world's pose
-//     stream; the leader is SIGKILLed once it has written a checkpoint,
-//     and the time from the kill to the first frame of the new leader (a
-//     larger epoch) is one sample. The killed server comes back as the
+//     stream; the leader is SIGKILLed once it has written a checkpoint and
+//     a standby waits, after a further delay drawn uniformly from one
+//     checkpoint interval (so that kills fall at every phase of the
+//     checkpoints and of the lease's renewals), and the time from the kill
+//     to the first frame of the new leader (a larger epoch) is one sample. The killed server comes back as the
 //     next standby. Every frame's epoch is checked in arrival order: a
 //     frame of an older epoch after one of a newer is a stale frame (two
 //     publishers). The tick goes back from the last frame of the old
@@ -38,6 +40,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -348,16 +351,19 @@ TakeoverResult measure_takeovers(const Options& options, tumble::bench::NatsClus
   std::uint64_t epoch = led->epoch;
   std::unique_ptr<tumble::bench::ChildProcess> standby = start(standby_argv);
 
+  std::mt19937 random(20261206);  // the same phases in every run of the benchmark
+  std::uniform_real_distribution<double> phase(0.0, options.checkpoint_interval_s);
   for (unsigned run = 1; run <= options.runs; ++run) {
     // The leader has written a checkpoint of its own, and a standby waits.
-    const tumble::v1::Stats stats =
+    const tumble::v1::Stats led_stats =
         wait_for_stats(asker, kWorld, std::chrono::seconds(60), "a checkpoint of the leader",
-                       [&](const tumble::v1::Stats& stats) { return stats.checkpoints().written() >= 1; });
-    result.tick_rate_hz = stats.tick_rate_hz();
+                       [](const tumble::v1::Stats& stats) { return stats.checkpoints().written() >= 1; });
+    result.tick_rate_hz = led_stats.tick_rate_hz();
     const Clock::time_point give_up = Clock::now() + std::chrono::seconds(60);
     while (standbys_of(asker, kWorld) == 0) {
       if (Clock::now() > give_up) fail("no standby answered in 60 s");
     }
+    std::this_thread::sleep_for(std::chrono::duration<double>(phase(random)));
     const Clock::time_point killed = Clock::now();
     ::kill(leader->pid(), SIGKILL);
     const std::uint64_t old_epoch = epoch;
