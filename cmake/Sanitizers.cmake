@@ -1,8 +1,8 @@
 # TUMBLE_SANITIZE=address,undefined or thread instruments every target.
 # The line tables of -g1 are enough for the reports' stacks and cost far
 # less to compile and link than full debug information. scripts/test.sh
-# builds these at -O1 with assertions on (CMAKE_BUILD_TYPE=Debug with
-# CMAKE_CXX_FLAGS_DEBUG=-O1).
+# builds these at -Og with assertions on (CMAKE_BUILD_TYPE=Debug with
+# CMAKE_CXX_FLAGS_DEBUG=-Og).
 if(TUMBLE_SANITIZE)
   set(_flags -fsanitize=${TUMBLE_SANITIZE} -fno-omit-frame-pointer -g1)
   if(TUMBLE_SANITIZE MATCHES "undefined")
