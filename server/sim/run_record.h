@@ -24,7 +24,9 @@ class RunRecord {
   using Clock = std::chrono::steady_clock;
   // Takes a captured world and how long the capture took on the sim thread.
   using CheckpointSink = std::function<void(std::shared_ptr<const tumble::v1::WorldState>, Clock::duration)>;
-  using Capture = std::function<void(tumble::v1::WorldState*)>;
+  // Fills a state that lives on a protobuf arena; returns what the state
+  // points into and must outlive it (or null).
+  using Capture = std::function<std::shared_ptr<const void>(tumble::v1::WorldState*)>;
 
   // Not owned; must outlive the record, or until finish().
   void set_journal(JournalWriter* journal) { journal_ = journal; }

@@ -70,6 +70,11 @@ Status Simulation::create_from_state(const tumble::v1::WorldState& state, const 
 }
 
 void Simulation::capture(tumble::v1::WorldState* state) const {
+  capture_without_scene(state);
+  *state->mutable_scene() = *scene_;
+}
+
+void Simulation::capture_without_scene(tumble::v1::WorldState* state) const {
   state->Clear();
   if (const std::size_t left_out = capture_world(world_, directory_, loads_, state); left_out > 0) {
     sim_log().error("left {} bodies out of the saved world at tick {}: their states are not finite or out of range",
@@ -79,18 +84,24 @@ void Simulation::capture(tumble::v1::WorldState* state) const {
   state->set_sim_time(time_of(next_tick_));
   state->set_tick_rate_hz(tick_rate_hz());
   state->set_paused(paused_);
-  *state->mutable_scene() = scene_;
 }
 
 void Simulation::set_journal(JournalWriter* journal) { record_.set_journal(journal); }
 
 void Simulation::set_checkpoints(std::chrono::steady_clock::duration interval, RunRecord::CheckpointSink sink) {
-  record_.set_checkpoints(interval, std::move(sink), [this](tumble::v1::WorldState* state) { capture(state); });
+  // The state is on an arena (RunRecord): it points at the scene rather
+  // than copying it (a third of a checkpoint's bytes and more than half its
+  // capture), and keeps the scene alive as long as it lives.
+  record_.set_checkpoints(interval, std::move(sink), [this](tumble::v1::WorldState* state) {
+    capture_without_scene(state);
+    state->unsafe_arena_set_allocated_scene(const_cast<tumble::v1::Scene*>(scene_.get()));
+    return std::shared_ptr<const void>(scene_);
+  });
 }
 
 Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
     : config_(config),
-      scene_(scene),
+      scene_(std::make_shared<const tumble::v1::Scene>(scene)),
       dt_(1.0 / config.tick_rate_hz),
       tick_rate_hz_(config.tick_rate_hz),
       loop_(config.max_catch_up_ticks) {}
@@ -98,10 +109,10 @@ Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
 Simulation::~Simulation() { stop(); }
 
 Status Simulation::build_world(physics::World* world, BodyDirectory* directory) const {
-  const tumble::v1::Vec3& g = scene_.gravity();
+  const tumble::v1::Vec3& g = scene_->gravity();
   world->set_gravity(physics::Vec3(g.x(), g.y(), g.z()));
-  for (int i = 0; i < scene_.bodies_size(); ++i) {
-    const tumble::v1::BodySpec& spec = scene_.bodies(i);
+  for (int i = 0; i < scene_->bodies_size(); ++i) {
+    const tumble::v1::BodySpec& spec = scene_->bodies(i);
     const std::string where = "bodies[" + std::to_string(i) + "]";
     physics::BodyDesc desc;
     if (Status status = body_desc_from_spec(spec, where, &desc); !status.ok()) return status;

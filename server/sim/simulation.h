@@ -199,6 +199,8 @@ class Simulation {
 
   // Fills an empty world and directory with the bodies of scene_.
   Status build_world(physics::World* world, BodyDirectory* directory) const;
+  // capture() but the scene.
+  void capture_without_scene(tumble::v1::WorldState* state) const;
 
   // One pass of the clock loop on the sim thread: a Step under way runs as
   // many ticks as one tick period of wall time allows.
@@ -261,7 +263,9 @@ class Simulation {
   ServerMessage stats(const ClientMessage& message) const;
 
   const SimConfig config_;
-  const tumble::v1::Scene scene_;  // the world Reset goes back to
+  // The world Reset goes back to. Never changed, so a checkpoint on the
+  // writer's thread may read it in place rather than a copy.
+  const std::shared_ptr<const tumble::v1::Scene> scene_;
 
   // Sim thread state.
   physics::World world_;

@@ -55,8 +55,9 @@ bool restorable(const physics::World& world, physics::BodyId id) {
 
 }  // namespace
 
-tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id) {
-  tumble::v1::BodySpec spec;
+void body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id,
+                   tumble::v1::BodySpec* out) {
+  tumble::v1::BodySpec& spec = *out;
   if (const BodyEntry* entry = directory.find(id)) {
     spec.set_name(entry->name);
     *spec.mutable_shape() = entry->shape;
@@ -74,7 +75,6 @@ tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirect
   orientation->set_z(q.z());
   set_vec3(world.linear_velocity(id), spec.mutable_linear_velocity());
   set_vec3(world.angular_velocity(id), spec.mutable_angular_velocity());
-  return spec;
 }
 
 std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
@@ -83,6 +83,7 @@ std::size_t capture_world(const physics::World& world, const BodyDirectory& dire
   set_vec3(world.gravity(), state->mutable_gravity());
   state->set_next_body_id(world.next_body_id());
   state->clear_bodies();
+  state->mutable_bodies()->Reserve(static_cast<int>(world.body_count()));
   std::vector<physics::BodyId> left_out;
   for (std::size_t i = 0; i < world.body_count(); ++i) {
     const physics::BodyId id = world.body_id_at(i);
@@ -92,7 +93,7 @@ std::size_t capture_world(const physics::World& world, const BodyDirectory& dire
     }
     tumble::v1::SavedBody* saved = state->add_bodies();
     saved->set_id(id);
-    *saved->mutable_spec() = body_spec_now(world, directory, id);
+    body_spec_now(world, directory, id, saved->mutable_spec());
     set_vec3(world.linear_momentum(id), saved->mutable_linear_momentum());
     set_vec3(world.angular_momentum(id), saved->mutable_angular_momentum());
     saved->set_asleep(world.motion_type(id) == physics::MotionType::dynamic_body && !world.is_awake(id));

@@ -41,8 +41,10 @@ std::size_t capture_world(const physics::World& world, const BodyDirectory& dire
                           tumble::v1::WorldState* state);
 
 // The description of one body as it is now: what a scene file would say to
-// create it here, moving as it moves.
-tumble::v1::BodySpec body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id);
+// create it here, moving as it moves; written into `spec` (which may live
+// on an arena).
+void body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id,
+                   tumble::v1::BodySpec* spec);
 
 // Rebuilds world, directory and loads (which must be empty) from a saved
 // state, checking it as strictly as a scene file: every body spec, finite

@@ -127,6 +127,12 @@ TEST(Persistence, CheckpointsBoundWhatAKillLoses) {
   const json& crate = body(list, "crate");
   EXPECT_DOUBLE_EQ(crate["linear_velocity"][0].get<double>(), 1.0);
   EXPECT_GT(crate["position"][0].get<double>(), 0.5);
+  // The checkpoint kept the scene too: Reset goes back to it.
+  run_ok(resumed, {"reset"});
+  const json reset_list = run_json(resumed, {"bodies"});
+  const json& reset_crate = body(reset_list, "crate");
+  EXPECT_EQ(reset_crate["position"][0].get<double>(), 0.0);
+  EXPECT_EQ(reset_crate["linear_velocity"][0].get<double>(), 0.0);
 }
 
 TEST(Persistence, AReplayOfARecordedRunEndsInTheSameWorldBitForBit) {

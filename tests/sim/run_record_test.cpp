@@ -81,7 +81,10 @@ TEST(RunRecord, CheckpointsOnlyAWorldThatChanged) {
         checkpoints.push_back(state->tick());
         EXPECT_GE(capture, RunRecord::Clock::duration::zero());
       },
-      [&](tumble::v1::WorldState* state) { state->set_tick(static_cast<std::uint64_t>(++captures)); });
+      [&](tumble::v1::WorldState* state) {
+        state->set_tick(static_cast<std::uint64_t>(++captures));
+        return nullptr;
+      });
   record.checkpoint_if_due();  // the world as it starts is not on disk yet
   record.checkpoint_if_due();
   record.checkpoint_if_due();
@@ -102,10 +105,35 @@ TEST(RunRecord, HandsTheSinkTheTimeTheCaptureTook) {
         const auto until = RunRecord::Clock::now() + std::chrono::milliseconds(3);
         while (RunRecord::Clock::now() < until) {
         }
+        return nullptr;
       });
   record.checkpoint_if_due();
   EXPECT_GE(took, std::chrono::milliseconds(3));
   EXPECT_LT(took, std::chrono::seconds(10));
+}
+
+TEST(RunRecord, AStateKeepsWhatItPointsIntoAliveUntilItGoes) {
+  RunRecord record;
+  auto scene = std::make_shared<tumble::v1::Scene>();
+  scene->add_bodies()->set_name("kept");
+  std::shared_ptr<const tumble::v1::WorldState> saved;
+  record.set_checkpoints(
+      RunRecord::Clock::duration::zero(),
+      [&](std::shared_ptr<const tumble::v1::WorldState> state, RunRecord::Clock::duration) { saved = state; },
+      [scene](tumble::v1::WorldState* state) {
+        state->unsafe_arena_set_allocated_scene(scene.get());  // in place, not a copy
+        return std::shared_ptr<const void>(scene);
+      });
+  record.checkpoint_if_due();
+  ASSERT_NE(saved, nullptr);
+  const std::weak_ptr<tumble::v1::Scene> watch = scene;
+  scene.reset();
+  record = RunRecord{};  // the capture's own reference goes too
+  ASSERT_FALSE(watch.expired()) << "the state still points into the scene";
+  EXPECT_EQ(saved->scene().bodies(0).name(), "kept");
+  EXPECT_EQ(&saved->scene(), watch.lock().get());
+  saved.reset();
+  EXPECT_TRUE(watch.expired());
 }
 
 TEST(RunRecord, WaitsForTheIntervalBeforeACheckpoint) {
@@ -114,7 +142,7 @@ TEST(RunRecord, WaitsForTheIntervalBeforeACheckpoint) {
   record.set_checkpoints(
       std::chrono::hours(1),
       [&](std::shared_ptr<const tumble::v1::WorldState>, RunRecord::Clock::duration) { ++checkpoints; },
-      [](tumble::v1::WorldState*) {});
+      [](tumble::v1::WorldState*) { return nullptr; });
   record.note_change();
   record.checkpoint_if_due();
   EXPECT_EQ(checkpoints, 0) << "the first is due an hour from set_checkpoints";
