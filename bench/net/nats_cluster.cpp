@@ -1,11 +1,9 @@
 #include "nats_cluster.h"
 
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <unistd.h>
-
 #include <fstream>
 #include <thread>
+
+#include "tumble/loopback_ports.h"
 
 namespace tumble::bench {
 namespace {
@@ -21,32 +19,9 @@ std::size_t count(const std::string& text, const std::string& what) {
 
 }  // namespace
 
-std::vector<std::uint16_t> free_loopback_ports(std::size_t count) {
-  // Every socket stays bound until all are: the kernel hands out distinct ports.
-  std::vector<int> sockets;
-  std::vector<std::uint16_t> ports;
-  for (std::size_t i = 0; i < count; ++i) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    if (fd < 0) break;
-    sockets.push_back(fd);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof(address);
-    if (::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) != 0 ||
-        ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-      break;
-    }
-    ports.push_back(ntohs(address.sin_port));
-  }
-  for (const int fd : sockets) ::close(fd);
-  ports.resize(count, 0);
-  return ports;
-}
-
 NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, NatsClusterOptions options)
     : path_(std::move(nats_server_path)), dir_(std::move(dir)), options_(options) {
-  const std::vector<std::uint16_t> ports = free_loopback_ports(2 * kNodes);
+  const std::vector<std::uint16_t> ports = tumble::free_loopback_ports(2 * kNodes);
   for (std::size_t i = 0; i < kNodes; ++i) {
     client_ports_[i] = ports[i];
     cluster_ports_[i] = ports[kNodes + i];

@@ -21,10 +21,6 @@
 
 namespace tumble::bench {
 
-// `count` distinct TCP ports of 127.0.0.1, free at the time of the call
-// (all bound at once, then released); 0 for each that could not be had.
-std::vector<std::uint16_t> free_loopback_ports(std::size_t count);
-
 struct NatsClusterOptions {
   int nice = 0;                  // the nodes' nice value
   bool jetstream = false;        // each node runs JetStream, its store under the cluster's directory

@@ -11,15 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "key_value_report.h"
 #include "nats_server_process.h"
 #include "process.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
 namespace {
-
-// nats_load's output line as key -> value.
-using Report = std::map<std::string, std::string>;
 
 Report run_nats_load(const std::vector<std::string>& args) {
   std::vector<std::string> argv = {
@@ -28,23 +26,7 @@ Report run_nats_load(const std::vector<std::string>& args) {
   argv.insert(argv.end(), args.begin(), args.end());
   const CommandResult result = run_command(argv, std::chrono::seconds(100));
   EXPECT_EQ(result.exit_code, 0) << result.err << result.out;
-  Report report;
-  std::istringstream fields(result.out);
-  std::string field;
-  while (fields >> field) {
-    const std::size_t equals = field.find('=');
-    if (equals != std::string::npos) report[field.substr(0, equals)] = field.substr(equals + 1);
-  }
-  return report;
-}
-
-double number(const Report& report, const std::string& key) {
-  const auto it = report.find(key);
-  if (it == report.end()) {
-    ADD_FAILURE() << "no " << key << " in the report";
-    return -1;
-  }
-  return std::stod(it->second);
+  return parse_report(result.out);
 }
 
 // Every subscription held a whole frame before the window and decoded

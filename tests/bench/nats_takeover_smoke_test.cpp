@@ -11,15 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "key_value_report.h"
 #include "nats_server_process.h"
 #include "process.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
 namespace {
-
-// Each output line as key -> value, by its phase.
-using Report = std::map<std::string, std::string>;
 
 std::map<std::string, Report> run_nats_takeover(const std::vector<std::string>& args, int* exit_code) {
   std::vector<std::string> argv = {TUMBLE_NATS_TAKEOVER_PATH, "--tumbled", tumbled_path(), "--nats-server",
@@ -30,25 +28,11 @@ std::map<std::string, Report> run_nats_takeover(const std::vector<std::string>& 
   std::map<std::string, Report> phases;
   std::istringstream lines(result.out);
   for (std::string line; std::getline(lines, line);) {
-    Report report;
-    std::istringstream fields(line);
-    for (std::string field; fields >> field;) {
-      const std::size_t equals = field.find('=');
-      if (equals != std::string::npos) report[field.substr(0, equals)] = field.substr(equals + 1);
-    }
+    Report report = parse_report(line);
     if (report.count("phase")) phases[report["phase"]] = report;
   }
   if (result.exit_code != 0) ADD_FAILURE() << result.err << result.out;
   return phases;
-}
-
-double number(const Report& report, const std::string& key) {
-  const auto it = report.find(key);
-  if (it == report.end()) {
-    ADD_FAILURE() << "no " << key << " in the report";
-    return -1;
-  }
-  return std::stod(it->second);
 }
 
 TEST(NatsTakeoverSmoke, TwoKillsTakenOverAndCheckpointsMeasured) {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "key_value_report.h"
 #include "process.h"
 #include "tumbled_process.h"
 
@@ -27,9 +28,6 @@ namespace {
 
 constexpr const char* kNoGravity = R"({"gravity": [0, 0, 0], "bodies": []})";
 constexpr const char* kGravity = R"({"bodies": []})";
-
-// net_load's output line as key -> value.
-using Report = std::map<std::string, std::string>;
 
 Report run_net_load(TumbledProcess& server, const std::vector<std::string>& args) {
   std::vector<std::string> argv = {TUMBLE_NET_LOAD_PATH,
@@ -44,23 +42,7 @@ Report run_net_load(TumbledProcess& server, const std::vector<std::string>& args
   argv.insert(argv.end(), args.begin(), args.end());
   const CommandResult result = run_command(argv, std::chrono::seconds(90));
   EXPECT_EQ(result.exit_code, 0) << result.err << result.out;
-  Report report;
-  std::istringstream fields(result.out);
-  std::string field;
-  while (fields >> field) {
-    const std::size_t equals = field.find('=');
-    if (equals != std::string::npos) report[field.substr(0, equals)] = field.substr(equals + 1);
-  }
-  return report;
-}
-
-double number(const Report& report, const std::string& key) {
-  const auto it = report.find(key);
-  if (it == report.end()) {
-    ADD_FAILURE() << "no " << key << " in the report";
-    return -1;
-  }
-  return std::stod(it->second);
+  return parse_report(result.out);
 }
 
 // A figure the report prints with exactly 2 decimals, in whole hundredths,

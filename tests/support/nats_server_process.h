@@ -13,14 +13,15 @@
 #include <vector>
 
 #include "process.h"
+#include "tumble/loopback_ports.h"
 
 namespace tumble::test {
 
 // A free TCP port of 127.0.0.1 at the time of the call (bound to port 0,
-// read back and released).
+// read back and released); free_loopback_ports (tumble/loopback_ports.h)
+// for several, all different.
 std::uint16_t free_loopback_port();
-// `count` free ports, all different (bound together, then released).
-std::vector<std::uint16_t> free_loopback_ports(std::size_t count);
+using tumble::free_loopback_ports;
 
 // A node's configuration: the text of its configuration file, and what
 // nats-server's environment has for the file's $VARIABLE references
