@@ -108,6 +108,20 @@ void log_access(const tumble::net::AccessTokens& tokens, spdlog::logger& log) {
   std::_Exit(kExitFailure);  // could not start again: a supervisor restarts tumbled
 }
 
+// Closes a NATS link, if there is one by then, when it goes out of scope.
+class LinkCloser {
+ public:
+  explicit LinkCloser(const std::unique_ptr<tumble::nats::NatsLink>& link) : link_(link) {}
+  ~LinkCloser() {
+    if (link_) link_->close();
+  }
+  LinkCloser(const LinkCloser&) = delete;
+  LinkCloser& operator=(const LinkCloser&) = delete;
+
+ private:
+  const std::unique_ptr<tumble::nats::NatsLink>& link_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,6 +148,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<tumble::nats::NatsLink> nats_link;
   std::unique_ptr<tumble::nats::NatsStateStore> state_store;
   std::unique_ptr<tumble::nats::WorldLease> lease;
+  // nats.c runs the link's handlers on threads of its own until the link is
+  // closed, and they reach the lease (and the NATS world, below): closed
+  // before those go, on every way out of main.
+  const LinkCloser close_link_before_the_lease{nats_link};
   const std::string server_id = tumble::nats::make_server_id();
   tumble::server::KeptState kept;
   if (!options.nats_urls.empty()) {
@@ -261,6 +279,7 @@ int main(int argc, char** argv) {
   if (options.serve_tcp) server.emplace(io, sim, server_config(options));
   // The world's subjects on the NATS link.
   std::unique_ptr<tumble::nats::NatsWorld> nats_world;
+  const LinkCloser close_link_before_the_nats_world{nats_link};
   if (nats_link) {
     tumble::nats::NatsWorldConfig world_config;
     world_config.world = options.world;

@@ -34,8 +34,14 @@ NatsLibraryScope::~NatsLibraryScope() { nats_CloseAndWait(2000); }
 NatsLink::NatsLink(NatsLinkConfig config, spdlog::logger& log) : config_(std::move(config)), log_(log) {}
 
 NatsLink::~NatsLink() {
-  if (connection_) {
-    closing_.store(true, std::memory_order_relaxed);
+  close();
+  if (connection_) natsConnection_Destroy(connection_);
+  for (auto& subscription : subscriptions_) natsSubscription_Destroy(subscription->handle);
+  natsOptions_Destroy(options_);
+}
+
+void NatsLink::close() {
+  if (connection_ && !closing_.exchange(true, std::memory_order_relaxed)) {
     natsConnection_Close(connection_);
     // nats.c calls on_closed later, on a thread of its own: this link must
     // outlive that call.
@@ -44,11 +50,7 @@ NatsLink::~NatsLink() {
     std::unique_lock lock(closed_mutex_);
     closed_wakeup_.wait_for(lock, std::chrono::seconds(5),
                             [this] { return closed_ && subscriptions_completed_ == subscriptions_.size(); });
-    lock.unlock();
-    natsConnection_Destroy(connection_);
   }
-  for (auto& subscription : subscriptions_) natsSubscription_Destroy(subscription->handle);
-  natsOptions_Destroy(options_);
 }
 
 sim::Status NatsLink::start() {

@@ -70,7 +70,7 @@ class NatsLibraryScope {
 class NatsLink {
  public:
   NatsLink(NatsLinkConfig config, spdlog::logger& log);
-  ~NatsLink();
+  ~NatsLink();  // close()
   NatsLink(const NatsLink&) = delete;
   NatsLink& operator=(const NatsLink&) = delete;
 
@@ -85,6 +85,12 @@ class NatsLink {
   // it takes effect when it is.
   sim::Status subscribe(const std::string& subject, const std::string& queue_group,
                         std::function<void(NatsRequest)> handler);
+
+  // Closes the connection and waits (at most 5 s) until nats.c has said
+  // its last word about it and every handler has returned: after it no
+  // handler runs, so what the handlers reach may go. Publishing after it
+  // reports the link down. Idempotent; from the owner's thread.
+  void close();
 
   enum class Sent { ok, down, too_large, failed };
   // Publishes `data` on `subject`; counted in messages_out and bytes_out when sent.
