@@ -70,6 +70,15 @@ std::string pad_right(const std::string& text, std::size_t width) {
   return text + std::string(width - std::min(width, text.size()), ' ');
 }
 
+// "label  value" lines, the values aligned, each line after `indent`.
+std::string labelled_lines(const std::vector<std::pair<std::string, std::string>>& rows, const std::string& indent) {
+  std::size_t width = 0;
+  for (const auto& row : rows) width = std::max(width, row.first.size());
+  std::string out;
+  for (const auto& [label, value] : rows) out += indent + pad_right(label, width) + "  " + value + "\n";
+  return out;
+}
+
 std::string pad_left(const std::string& text, std::size_t width) {
   return std::string(width - std::min(width, text.size()), ' ') + text;
 }
@@ -247,10 +256,7 @@ std::string format_stats(const tumble::v1::Stats& stats) {
       {"closed on errors", std::to_string(stats.clients_closed_for_errors())},
       {"bytes sent", std::to_string(stats.bytes_sent())},
   };
-  std::size_t width = 0;
-  for (const auto& row : rows) width = std::max(width, row.first.size());
-  std::string out;
-  for (const auto& [label, value] : rows) out += pad_right(label, width) + "  " + value + "\n";
+  std::string out = labelled_lines(rows, "");
   if (stats.has_checkpoints()) {
     const tumble::v1::Checkpoints& checkpoints = stats.checkpoints();
     const std::vector<std::pair<std::string, std::string>> saved = {
@@ -266,10 +272,7 @@ std::string format_stats(const tumble::v1::Stats& stats) {
         {"write",
          fixed(checkpoints.last_write_ms(), 3) + " ms (longest " + fixed(checkpoints.write_ms_max(), 3) + " ms)"},
     };
-    width = 0;
-    for (const auto& row : saved) width = std::max(width, row.first.size());
-    out += "checkpoints\n";
-    for (const auto& [label, value] : saved) out += "  " + pad_right(label, width) + "  " + value + "\n";
+    out += "checkpoints\n" + labelled_lines(saved, "  ");
   }
   if (!stats.has_nats()) return out;
   const tumble::v1::NatsLink& nats = stats.nats();
@@ -283,10 +286,7 @@ std::string format_stats(const tumble::v1::Stats& stats) {
       {"requests in", std::to_string(nats.requests_in())},
       {"frames dropped", std::to_string(nats.frames_dropped())},
   };
-  width = 0;
-  for (const auto& row : link) width = std::max(width, row.first.size());
-  out += "nats\n";
-  for (const auto& [label, value] : link) out += "  " + pad_right(label, width) + "  " + value + "\n";
+  out += "nats\n" + labelled_lines(link, "  ");
   return out;
 }
 

@@ -138,7 +138,7 @@ class NatsLink {
   natsConnection* connection_ = nullptr;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   std::atomic<bool> up_{false};
-  std::atomic<bool> closing_{false};  // the destructor is closing the connection
+  std::atomic<bool> closing_{false};  // close() has begun closing the connection
   // Set by on_closed, nats.c's last call about the connection, and by
   // on_subscription_complete, its last call about a subscription (no
   // handler runs after it).
