@@ -51,6 +51,7 @@
 #include <span>
 
 #include "tumble/physics/body.h"
+#include "tumble/physics/joint.h"
 #include "tumble/physics/math.h"
 #include "tumble/physics/shape.h"
 #include "tumble/physics/step_stats.h"
@@ -170,6 +171,46 @@ class World {
   void apply_impulse(BodyId id, const Vec3& impulse);  // P += J
   // Also L += (r - x) x J.
   void apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& world_point);
+
+  // Joints (joint.h). add_joint requires a desc joint_desc_error accepts
+  // (asserted); it wakes both bodies, and unless desc.collide_connected the
+  // two stop colliding. remove_body removes the body's joints too.
+  JointId add_joint(const JointDesc& desc);
+  // Restoring a saved world: as add_body_with_id, for joints.
+  JointId add_joint_with_id(const JointDesc& desc, JointId id);
+  JointId next_joint_id() const;
+  void set_next_joint_id(JointId next);
+  // Why desc cannot make a joint in this world, as "field: reason" (the
+  // fields as scene files name them), or nullptr when it can: bodies known
+  // and distinct, not both fixed (static or the world), finite frames,
+  // limits in order, a cone in (0, pi], lengths in order, a motor only on
+  // a hinge or slider, non-negative forces.
+  const char* joint_desc_error(const JointDesc& desc) const;
+  // Sets desc's frames from world points on each body (anchor_a, anchor_b:
+  // the same point for all but a distance joint) and a world axis (a unit
+  // vector or not, nonzero), at the bodies' current poses: the frames'
+  // x axes along `axis`, their y axes the same world direction, so a
+  // hinge's angle and a slider's position start at 0. body_a and body_b
+  // must be set, and known.
+  void set_joint_frames(JointDesc& desc, const Vec3& anchor_a, const Vec3& anchor_b, const Vec3& axis) const;
+  // Removes a joint and wakes its bodies; false if the id is unknown.
+  bool remove_joint(JointId id);
+  bool contains_joint(JointId id) const;
+  std::size_t joint_count() const;
+  JointId joint_id_at(std::size_t index) const;  // index < joint_count(), in creation order but for removals
+  const JointDesc& joint_desc(JointId id) const;
+  // Changes a hinge's or slider's motor (asserted) and wakes its bodies.
+  void set_joint_motor(JointId id, const JointMotor& motor);
+  JointState joint_state(JointId id) const;
+  const JointImpulses& joint_impulses(JointId id) const;
+  // Puts back saved warm-start impulses, right after add_joint_with_id.
+  void restore_joint_impulses(JointId id, const JointImpulses& impulses);
+  // The joints of a body, in the order they were added.
+  std::span<const JointId> body_joints(BodyId id) const;
+  // The joints the last step() broke (their force or torque beyond the
+  // desc's limits) and removed, in joint order; valid
+  // until the next step().
+  std::span<const JointId> broken_joints() const;
 
   // Sleeping. wake() wakes a sleeping dynamic body and every sleeping body
   // connected to it by touching contacts (its island).
