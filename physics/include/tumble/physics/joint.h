@@ -48,7 +48,10 @@ enum class JointType : std::uint8_t { ball, hinge, slider, fixed, distance };
 // or m/s) to `target`; position mode drives its position (rad or m) to
 // `target` through a spring of `hertz` with `damping_ratio` (a PD drive).
 // Either way the motor's force stays within max_force (N m for a hinge, N
-// for a slider).
+// for a slider). The position spring's stiffness is (2 pi hertz)^2 times the
+// joint's effective mass along its axis (for a hinge, the bodies'
+// inertias about their centres, as Box2D's), so a body hung on the hinge
+// sags below the target by its load's torque over that stiffness.
 struct JointMotor {
   enum class Mode : std::uint8_t { off, speed, position };
   Mode mode = Mode::off;
