@@ -27,6 +27,7 @@ DynamicBody box(const Vec3& half, double mass, const Vec3& position) {
 
 DynamicBody unit_box(const Vec3& position) { return box(Vec3::Constant(kHalf), kUnitMass, position); }
 
+// A sphere of `radius` and `mass` at `position`.
 DynamicBody sphere(double radius, double mass, const Vec3& position) {
   DynamicBody body;
   body.shape = BodyShape::sphere;
@@ -153,6 +154,7 @@ Scene landing(unsigned side) {
   return scene;
 }
 
+// A ball joint without a cone.
 SceneJoint ball(int body_a, int body_b, const Vec3& anchor) {
   SceneJoint joint;
   joint.type = JointType::ball;
@@ -199,7 +201,7 @@ Scene chain(int chains, int links) {
 }
 
 // Adds one ragdoll of 11 bodies and 10 joints, built standing in its own
-// frame (feet at y = 0, facing +z, arms stretched out along x, about 80 kg)
+// frame (feet at y = 0, facing +z, arms stretched out along x, 75 kg)
 // and placed lying on its back: its frame turned by `turn` and the point
 // between its hips (1 m up) moved to `centre`. Neighbouring parts are
 // joined a few centimetres apart, so no two parts overlap at the start.
@@ -259,9 +261,9 @@ void add_ragdoll(Scene& scene, const Eigen::Quaterniond& turn, const Vec3& centr
 // golden angle from the one before. Within a column they lie 0.6 m apart,
 // the lowest 0.3 m up; every other column is 0.3 m higher, so neighbouring
 // columns, which reach over each other, interleave without touching (a
-// ragdoll is 0.22 m thick and reaches 0.97 m from its centre, less than
-// the 1.98 m between columns at the same heights). They fall onto each
-// other into one heap.
+// ragdoll is 0.22 m thick and reaches at most 0.98 m from its centre, and
+// columns at the same heights are 1.98 m apart). They fall onto each other
+// into one heap.
 Scene ragdolls(int columns, int layers) {
   constexpr double kSpacing = 1.4;
   Scene scene;
