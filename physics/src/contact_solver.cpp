@@ -26,8 +26,8 @@ void store(float (&to)[4], const Vec3& x) {
 
 void ContactSolver::prepare(std::span<Contact> contacts, std::span<const ContactLink> links,
                             std::span<const std::uint32_t> active, std::span<Joint> joints,
-                            std::span<const JointConstraint> joint_edges, const ContactSolverBodies& bodies,
-                            double dt, const ContactSolverSettings& settings) {
+                            std::span<const JointConstraint> joint_edges, const ContactSolverBodies& bodies, double dt,
+                            const ContactSolverSettings& settings) {
   const std::size_t body_count = bodies.inverse_mass.size();
   if (motion_.size() < body_count) {
     motion_.resize(body_count);
@@ -46,12 +46,12 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
 
   // The spring of the push (make_softness). Stiffer than a quarter of the
   // substep rate would ring, so f is capped there; contacts against static
-  // or kinematic bodies get twice the frequency. Joints get their own
-  // (twice the contacts' by default, as Box2D v3), under the same cap.
+  // or kinematic bodies get twice the frequency. Joints get their own,
+  // twice the contacts' by default as Box2D v3's, under the same cap.
   const double hertz = std::min(settings_.contact_hertz, 0.25 / h_);
   soft_ = make_softness(hertz, settings_.damping_ratio, h_);
   static_soft_ = make_softness(2.0 * hertz, settings_.damping_ratio, h_);
-  const double joint_hertz = settings_.joint_hertz > 0 ? settings_.joint_hertz : 2.0 * settings_.contact_hertz;
+  const double joint_hertz = settings_.joint_hertz > 0 ? settings_.joint_hertz : 2.0 * hertz;
   joint_settings_.joint_soft = make_softness(std::min(joint_hertz, 0.25 / h_), settings_.joint_damping_ratio, h_);
   joint_settings_.h = h_;
   joint_settings_.inverse_h = inverse_h_;

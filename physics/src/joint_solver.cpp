@@ -196,8 +196,7 @@ void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j
 // The point constraint C = d, three rows as one block (joint_solver.h).
 void solve_point(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
                  Vec3& accumulated, Velocities& v) {
-  const Vec3 cdot =
-      v.linear_b + v.angular_b.cross(g.anchor_b) - v.linear_a - v.angular_a.cross(g.anchor_a);
+  const Vec3 cdot = v.linear_b + v.angular_b.cross(g.anchor_b) - v.linear_a - v.angular_a.cross(g.anchor_a);
   const Mat3 sa = cross_matrix(g.anchor_a), sb = cross_matrix(g.anchor_b);
   const Mat3 k = (row.inverse_mass_a + row.inverse_mass_b) * Mat3::Identity() - sa * row.inverse_inertia_a * sa -
                  sb * row.inverse_inertia_b * sb;
@@ -239,8 +238,7 @@ void solve_hinge_alignment(const JointRow& row, const Geometry& g, const JointSt
   const Eigen::Vector2d cdot(j1.dot(dw), j2.dot(dw));
   const Correction s = correction(settings, soft);
   const Eigen::Vector2d previous(accumulated.x(), accumulated.y());
-  const Eigen::Vector2d lambda =
-      -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
+  const Eigen::Vector2d lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
   accumulated.x() += lambda.x();
   accumulated.y() += lambda.y();
   const Vec3 l = lambda.x() * j1 + lambda.y() * j2;
@@ -259,16 +257,15 @@ void solve_slider_line(const JointRow& row, const Geometry& g, const JointStepSe
   Eigen::Matrix2d k;
   k(0, 0) = linear_mass + j1.angular_a.dot(row.inverse_inertia_a * j1.angular_a) +
             j1.angular_b.dot(row.inverse_inertia_b * j1.angular_b);
-  k(0, 1) = k(1, 0) = j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
-                      j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
+  k(0, 1) = k(1, 0) =
+      j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) + j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
   k(1, 1) = linear_mass + j2.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
             j2.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
   const Eigen::Vector2d c(g.d.dot(g.frame_a.col(1)), g.d.dot(g.frame_a.col(2)));
   const Eigen::Vector2d cdot(velocity(j1, v), velocity(j2, v));
   const Correction s = correction(settings, soft);
   const Eigen::Vector2d previous(accumulated.x(), accumulated.y());
-  const Eigen::Vector2d lambda =
-      -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
+  const Eigen::Vector2d lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
   accumulated.x() += lambda.x();
   accumulated.y() += lambda.y();
   apply(row, j1, lambda.x(), v);
@@ -335,10 +332,10 @@ void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t b
     frame = (Quat(t.rotation) * local_basis).normalized();
     return t.position;
   };
-  const Vec3 center_a = side(body_a, desc.local_anchor_a, desc.local_basis_a, row.inverse_mass_a,
-                             row.inverse_inertia_a, row.anchor_a, row.frame_a);
-  const Vec3 center_b = side(body_b, desc.local_anchor_b, desc.local_basis_b, row.inverse_mass_b,
-                             row.inverse_inertia_b, row.anchor_b, row.frame_b);
+  const Vec3 center_a = side(body_a, desc.local_anchor_a, desc.local_basis_a, row.inverse_mass_a, row.inverse_inertia_a,
+                             row.anchor_a, row.frame_a);
+  const Vec3 center_b = side(body_b, desc.local_anchor_b, desc.local_basis_b, row.inverse_mass_b, row.inverse_inertia_b,
+                             row.anchor_b, row.frame_b);
   row.delta_center = center_b - center_a;
   row.motor_soft = make_softness(desc.motor.hertz, desc.motor.damping_ratio, settings.h);
   row.spring_soft = make_softness(desc.spring_hertz, desc.spring_damping_ratio, settings.h);
@@ -412,8 +409,7 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
       break;
     case JointType::slider: {
       const Vec3 axis = g.frame_a.col(0);
-      solve_axial(row, desc, linear_row(axis, g.anchor_a + g.d, g.anchor_b), g.d.dot(axis), false, settings, soft,
-                  v);
+      solve_axial(row, desc, linear_row(axis, g.anchor_a + g.d, g.anchor_b), g.d.dot(axis), false, settings, soft, v);
       solve_rotation_lock(row, g, settings, soft, impulses.angular, v);
       solve_slider_line(row, g, settings, soft, impulses.linear, v);
       break;

@@ -15,8 +15,8 @@
 #include "body_state.h"
 #include "contact.h"
 #include "contact_solver.h"
-#include "joint_solver.h"
 #include "dynamic_tree.h"
+#include "joint_solver.h"
 #include "transform.h"
 #include "tumble/physics/body.h"
 #include "tumble/physics/math.h"
@@ -85,9 +85,7 @@ class World::Impl {
   const char* joint_desc_error(const JointDesc& desc) const;
   void set_joint_frames(JointDesc& desc, const Vec3& anchor_a, const Vec3& anchor_b, const Vec3& axis) const;
   bool remove_joint(JointId id);
-  bool contains_joint(JointId id) const {
-    return id < joint_id_to_dense_.size() && joint_id_to_dense_[id] != kNoIndex;
-  }
+  bool contains_joint(JointId id) const { return id < joint_id_to_dense_.size() && joint_id_to_dense_[id] != kNoIndex; }
   std::size_t joint_count() const { return joints_.size(); }
   JointId joint_id_at(std::size_t index) const { return joints_[index].id; }
   const JointDesc& joint_desc(JointId id) const { return joint(id).desc; }

@@ -42,9 +42,7 @@ const char* World::Impl::joint_desc_error(const JointDesc& desc) const {
   if (!known(desc.body_a)) return "body_a: unknown body";
   if (!known(desc.body_b)) return "body_b: unknown body";
   if (desc.body_a == desc.body_b) return "body_b: the same body as body_a";
-  auto dynamic = [&](BodyId body) {
-    return body != kWorldBodyId && motion_type(body) == MotionType::dynamic_body;
-  };
+  auto dynamic = [&](BodyId body) { return body != kWorldBodyId && motion_type(body) == MotionType::dynamic_body; };
   if (!dynamic(desc.body_a) && !dynamic(desc.body_b)) return "body_b: neither body is dynamic";
   if (!finite(desc.local_anchor_a) || !finite(desc.local_anchor_b)) return "anchor: not finite";
   if (!unit(desc.local_basis_a) || !unit(desc.local_basis_b)) return "axis: not a rotation";

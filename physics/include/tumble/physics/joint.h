@@ -93,7 +93,7 @@ struct JointState {
   // Hinge: angle (rad); slider: position (m); distance: length (m); ball:
   // the angle between the x axes (rad); fixed: 0.
   double position = 0;
-  double speed = 0;         // its rate of change (rad/s or m/s)
+  double speed = 0;            // its rate of change (rad/s or m/s)
   Vec3 force = Vec3::Zero();   // constraint force on body B (N), world frame
   Vec3 torque = Vec3::Zero();  // constraint torque on body B (N m), world frame
   // Impulse the motor applied over the last step (N m s or N s); at most

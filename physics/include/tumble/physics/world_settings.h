@@ -33,7 +33,7 @@ struct WorldSettings {
   // relative to the substep whatever the rates. The solver caps it at a
   // quarter of the substep rate.
   double contact_hertz = 0;
-  double contact_damping_ratio = 10;   // of that push
+  double contact_damping_ratio = 10;  // of that push
   // Frequency (Hz) and damping ratio of the spring that pulls a joint's
   // bodies back together when it has opened (joint.h); 0 means twice
   // contact_hertz (Box2D v3's choice), capped like it at a quarter of the
