@@ -133,8 +133,8 @@ TEST(JointTest, AFrictionlessPendulumKeepsItsEnergyForAMinute) {
 // The joints are soft (joint_solver.h): a joint opens by about load / (m
 // omega^2) for the effective mass m of its row and the joint spring's
 // omega, which the substep rate bounds. A chain carrying a hundred times
-// its links' mass opens by 5 mm at the default 2 substeps of a 240 Hz step
-// and 1.2 mm at 4; it holds within 1 mm at 8.
+// its links' mass opens by 9 mm at the default 2 substeps of a 240 Hz step
+// and 2.2 mm at 4; it holds within 1 mm at 8.
 WorldSettings stiff_settings() {
   WorldSettings settings = settings_without_sleep();
   settings.substeps = 8;
