@@ -63,13 +63,16 @@ struct Geometry {
 Geometry geometry_now(const JointRow& row, const SolverBody* slots) {
   const SolverBody& a = slots[row.slot_a];
   const SolverBody& b = slots[row.slot_b];
-  const Quat turn_a = quat_from_rotation_vector(to_vec3(a.rotation));
-  const Quat turn_b = quat_from_rotation_vector(to_vec3(b.rotation));
+  // The slot of zeros (a static body or the world) has not turned.
+  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(to_vec3(a.rotation));
+  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(to_vec3(b.rotation));
   Geometry g;
   g.anchor_a = turn_a * row.anchor_a;
   g.anchor_b = turn_b * row.anchor_b;
-  g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
-  g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
+  if (row.frames) {
+    g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
+    g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
+  }
   g.d = row.delta_center + (to_vec3(b.displacement) - to_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
   return g;
 }
@@ -197,11 +200,8 @@ void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j
 void solve_point(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
                  Vec3& accumulated, Velocities& v) {
   const Vec3 cdot = v.linear_b + v.angular_b.cross(g.anchor_b) - v.linear_a - v.angular_a.cross(g.anchor_a);
-  const Mat3 sa = cross_matrix(g.anchor_a), sb = cross_matrix(g.anchor_b);
-  const Mat3 k = (row.inverse_mass_a + row.inverse_mass_b) * Mat3::Identity() - sa * row.inverse_inertia_a * sa -
-                 sb * row.inverse_inertia_b * sb;
   const Correction c = correction(settings, soft);
-  const Vec3 lambda = -c.mass_scale * (k.inverse() * (cdot + c.bias_rate * g.d)) - c.impulse_scale * accumulated;
+  const Vec3 lambda = -c.mass_scale * (row.point_mass * (cdot + c.bias_rate * g.d)) - c.impulse_scale * accumulated;
   accumulated += lambda;
   apply(row, lambda, g.anchor_a, g.anchor_b, Vec3::Zero(), v);
 }
@@ -214,9 +214,8 @@ void solve_rotation_lock(const JointRow& row, const Geometry& g, const JointStep
   // on the short way round.
   const Quat error = Quat(g.frame_b) * Quat(g.frame_a).conjugate();
   const Vec3 c = (error.w() < 0 ? -2.0 : 2.0) * error.vec();
-  const Mat3 k = row.inverse_inertia_a + row.inverse_inertia_b;
   const Correction s = correction(settings, soft);
-  const Vec3 lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * accumulated;
+  const Vec3 lambda = -s.mass_scale * (row.lock_mass * (cdot + s.bias_rate * c)) - s.impulse_scale * accumulated;
   accumulated += lambda;
   v.angular_a -= row.inverse_inertia_a * lambda;
   v.angular_b += row.inverse_inertia_b * lambda;
@@ -337,6 +336,17 @@ void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t b
   const Vec3 center_b = side(body_b, desc.local_anchor_b, desc.local_basis_b, row.inverse_mass_b, row.inverse_inertia_b,
                              row.anchor_b, row.frame_b);
   row.delta_center = center_b - center_a;
+  const bool point = desc.type == JointType::ball || desc.type == JointType::hinge || desc.type == JointType::fixed;
+  if (point) {
+    const Mat3 sa = cross_matrix(row.anchor_a), sb = cross_matrix(row.anchor_b);
+    const Mat3 k = (row.inverse_mass_a + row.inverse_mass_b) * Mat3::Identity() - sa * row.inverse_inertia_a * sa -
+                   sb * row.inverse_inertia_b * sb;
+    row.point_mass = k.inverse();
+  }
+  if (desc.type == JointType::fixed || desc.type == JointType::slider) {
+    row.lock_mass = (row.inverse_inertia_a + row.inverse_inertia_b).inverse();
+  }
+  row.frames = !(desc.type == JointType::distance || (desc.type == JointType::ball && std::isinf(desc.cone_limit)));
   row.motor_soft = make_softness(desc.motor.hertz, desc.motor.damping_ratio, settings.h);
   row.spring_soft = make_softness(desc.spring_hertz, desc.spring_damping_ratio, settings.h);
   row.impulses = joint.impulses;
@@ -351,7 +361,7 @@ void warm_start_joint(const JointRow& row, SolverBody* slots) {
     case JointType::ball: {
       double angle;
       Vec3 axis;
-      const Vec3 cone = cone_axis(g, &angle, &axis) ? Vec3(-impulses.lower * axis) : Vec3::Zero();
+      const Vec3 cone = row.frames && cone_axis(g, &angle, &axis) ? Vec3(-impulses.lower * axis) : Vec3::Zero();
       apply(row, impulses.linear, g.anchor_a, g.anchor_b, cone, v);
       break;
     }
@@ -440,7 +450,7 @@ void store_joint(const JointRow& row, const SolverBody* slots, const JointStepSe
       double angle;
       Vec3 axis;
       linear = impulses.linear;
-      if (cone_axis(g, &angle, &axis)) angular = -impulses.lower * axis;
+      if (row.frames && cone_axis(g, &angle, &axis)) angular = -impulses.lower * axis;
       break;
     }
     case JointType::hinge: {
