@@ -35,6 +35,7 @@ packages=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   libbullet-dev libode-dev
   python3-protobuf
+  python3-numpy python3-pytest python3-setuptools python3-pip  # the Python client (clients/python) and its tests
   nats-server libnats-dev
   openssl  # the TLS tests make their own certificate authority
   "${optional[@]}"

@@ -257,6 +257,7 @@ void Simulation::remove_from_world(physics::BodyId id, std::uint64_t tick) {
   const std::string name = directory_.name_of(id);
   world_.remove_body(id);
   loads_.remove_body(id);
+  step_loads_.remove_body(id);
   {
     std::lock_guard lock(directory_mutex_);
     directory_.remove(id);
@@ -356,9 +357,83 @@ std::optional<ServerMessage> Simulation::step(Command& command) {
     return error_reply(message, tumble::v1::FAILED_PRECONDITION,
                        "a Step is under way with " + std::to_string(steps_left_) + " ticks left");
   }
-  steps_left_ = message.step().ticks();
+  const tumble::v1::Step& m = message.step();
+  // Every body named is resolved before anything is applied: an unknown one refuses the whole Step.
+  std::vector<physics::BodyId> force_bodies(static_cast<std::size_t>(m.forces_size()));
+  for (int i = 0; i < m.forces_size(); ++i) {
+    force_bodies[static_cast<std::size_t>(i)] = directory_.resolve(m.forces(i).body());
+    if (force_bodies[static_cast<std::size_t>(i)] == physics::kInvalidBodyId) {
+      return unknown_body(message, m.forces(i).body());
+    }
+  }
+  std::vector<physics::BodyId> torque_bodies(static_cast<std::size_t>(m.torques_size()));
+  for (int i = 0; i < m.torques_size(); ++i) {
+    torque_bodies[static_cast<std::size_t>(i)] = directory_.resolve(m.torques(i).body());
+    if (torque_bodies[static_cast<std::size_t>(i)] == physics::kInvalidBodyId) {
+      return unknown_body(message, m.torques(i).body());
+    }
+  }
+  step_frame_bodies_.clear();
+  for (const tumble::v1::BodyRef& ref : m.frame_bodies()) {
+    const physics::BodyId id = directory_.resolve(ref);
+    if (id == physics::kInvalidBodyId) return unknown_body(message, ref);
+    step_frame_bodies_.push_back(id);
+  }
+  std::sort(step_frame_bodies_.begin(), step_frame_bodies_.end());
+  step_frame_bodies_.erase(std::unique(step_frame_bodies_.begin(), step_frame_bodies_.end()), step_frame_bodies_.end());
+  // The Step's loads last as long as it does: end_step() drops them, whatever ended it.
+  for (int i = 0; i < m.forces_size(); ++i) {
+    const auto& f = m.forces(i);
+    const physics::BodyId body = force_bodies[static_cast<std::size_t>(i)];
+    step_loads_.add_force(body, to_vec3(f.force()), body_point(world_, body, f.has_point(), f.point(), f.point_frame()),
+                          BodyLoad::kPersistent);
+  }
+  for (int i = 0; i < m.torques_size(); ++i) {
+    step_loads_.add_torque(torque_bodies[static_cast<std::size_t>(i)], to_vec3(m.torques(i).torque()),
+                           BodyLoad::kPersistent);
+  }
+  steps_left_ = m.ticks();
   step_command_ = std::move(command);
   return std::nullopt;
+}
+
+void Simulation::fill_step_frame(tumble::v1::PoseFields fields, tumble::v1::PoseFrame* frame) const {
+  frame->set_tick(next_tick_);
+  frame->set_sim_time(time_of(next_tick_));
+  frame->set_encoding(tumble::v1::POSE_ENCODING_FULL);
+  std::vector<physics::BodyId> every_body;
+  const std::vector<physics::BodyId>* bodies = &step_frame_bodies_;
+  if (step_frame_bodies_.empty()) {
+    every_body.reserve(world_.body_count());
+    for (std::size_t i = 0; i < world_.body_count(); ++i) every_body.push_back(world_.body_id_at(i));
+    std::sort(every_body.begin(), every_body.end());
+    bodies = &every_body;
+  }
+  const bool velocities = fields == tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY;
+  const int n = static_cast<int>(bodies->size());
+  frame->mutable_ids()->Reserve(n);
+  frame->mutable_positions()->Reserve(3 * n);
+  frame->mutable_orientations()->Reserve(4 * n);
+  if (velocities) {
+    frame->mutable_linear_velocities()->Reserve(3 * n);
+    frame->mutable_angular_velocities()->Reserve(3 * n);
+  }
+  const auto add3 = [](const physics::Vec3& v, google::protobuf::RepeatedField<float>* out) {
+    out->Add(static_cast<float>(v.x()));
+    out->Add(static_cast<float>(v.y()));
+    out->Add(static_cast<float>(v.z()));
+  };
+  for (const physics::BodyId id : *bodies) {
+    if (!world_.contains(id)) continue;  // removed during the Step (it diverged)
+    frame->add_ids(id);
+    add3(world_.position(id), frame->mutable_positions());
+    const physics::Quat& q = world_.orientation(id);
+    for (const double c : {q.w(), q.x(), q.y(), q.z()}) frame->add_orientations(static_cast<float>(c));
+    if (velocities) {
+      add3(world_.linear_velocity(id), frame->mutable_linear_velocities());
+      add3(world_.angular_velocity(id), frame->mutable_angular_velocities());
+    }
+  }
 }
 
 void Simulation::end_step(tumble::v1::StepEnd end) {
@@ -370,7 +445,11 @@ void Simulation::end_step(tumble::v1::StepEnd end) {
   ServerMessage reply = ack_reply(step_command_.message, next_tick_);
   reply.mutable_ack()->set_step_ticks_left(steps_left_);
   reply.mutable_ack()->set_step_ended_by(end);
+  const tumble::v1::Step& step = step_command_.message.step();
+  if (step.reply_frame()) fill_step_frame(step.frame_fields(), reply.mutable_ack()->mutable_frame());
   steps_left_ = 0;
+  step_loads_.clear();
+  step_frame_bodies_.clear();
   const Command ended = std::exchange(step_command_, Command{});
   if (ended.reply) ended.reply(std::move(reply));
 }

@@ -63,6 +63,45 @@ std::optional<RequestError> check_duration(bool has_seconds, double seconds, boo
   return std::nullopt;
 }
 
+// A Step's own loads act for its ticks: no duration, not persistent.
+std::optional<RequestError> check_step(const tumble::v1::Step& m) {
+  if (m.ticks() < 1 || m.ticks() > kMaxStepTicks) {
+    return invalid("ticks must be from 1 to " + std::to_string(kMaxStepTicks) + ", got " + std::to_string(m.ticks()));
+  }
+  std::optional<RequestError> error;
+  for (int i = 0; i < m.forces_size(); ++i) {
+    const auto& f = m.forces(i);
+    const std::string where = "forces[" + std::to_string(i) + "]";
+    if ((error = check_body_ref(f.body(), f.has_body()))) return invalid(where + "." + error->message);
+    if (!f.has_force()) return invalid(where + ".force is required");
+    if ((error = check_vec3(f.force(), (where + ".force").c_str()))) return error;
+    if ((error = check_vec3(f.point(), (where + ".point").c_str()))) return error;
+    if (f.persistent() || f.duration_case() != tumble::v1::ApplyForce::DURATION_NOT_SET) {
+      return invalid(where + ": a Step's force acts for the Step's ticks and takes no duration or persistent");
+    }
+  }
+  for (int i = 0; i < m.torques_size(); ++i) {
+    const auto& t = m.torques(i);
+    const std::string where = "torques[" + std::to_string(i) + "]";
+    if ((error = check_body_ref(t.body(), t.has_body()))) return invalid(where + "." + error->message);
+    if (!t.has_torque()) return invalid(where + ".torque is required");
+    if ((error = check_vec3(t.torque(), (where + ".torque").c_str()))) return error;
+    if (t.persistent() || t.duration_case() != tumble::v1::ApplyTorque::DURATION_NOT_SET) {
+      return invalid(where + ": a Step's torque acts for the Step's ticks and takes no duration or persistent");
+    }
+  }
+  for (int i = 0; i < m.frame_bodies_size(); ++i) {
+    if ((error = check_body_ref(m.frame_bodies(i), true))) {
+      return invalid("frame_bodies[" + std::to_string(i) + "]." + error->message);
+    }
+  }
+  if (!tumble::v1::PoseFields_IsValid(m.frame_fields())) {
+    return invalid("frame_fields must be POSE_FIELDS_POSE_AND_VELOCITY or POSE_FIELDS_POSE, got " +
+                   std::to_string(m.frame_fields()));
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<RequestError> check_hello(const tumble::v1::Hello& hello) {
@@ -160,13 +199,8 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
       const auto& m = message.clear_forces();
       return m.has_body() ? check_body_ref(m.body(), true) : std::nullopt;
     }
-    case ClientMessage::kStep: {
-      const std::uint32_t ticks = message.step().ticks();
-      if (ticks < 1 || ticks > kMaxStepTicks) {
-        return invalid("ticks must be from 1 to " + std::to_string(kMaxStepTicks) + ", got " + std::to_string(ticks));
-      }
-      return std::nullopt;
-    }
+    case ClientMessage::kStep:
+      return check_step(message.step());
     case ClientMessage::kSetTickRate: {
       const double rate = message.set_tick_rate().rate_hz();
       if (!(std::isfinite(rate) && rate >= kMinTickRateHz && rate <= kMaxTickRateHz)) {

@@ -174,9 +174,16 @@ void Simulation::submit(Command command) {
     command.body_desc = std::move(desc);
   }
   commands_.push(std::move(command));
+  // Paused, the loop's passes only apply commands: one at once rather than
+  // at the next tick's deadline. Running, the command waits for the tick
+  // (a pass there steps the world).
+  if (paused_flag_.load(std::memory_order_relaxed)) loop_.wake();
 }
 
-void Simulation::request_snapshot() { snapshot_requested_.store(true, std::memory_order_relaxed); }
+void Simulation::request_snapshot() {
+  snapshot_requested_.store(true, std::memory_order_relaxed);
+  if (paused_flag_.load(std::memory_order_relaxed)) loop_.wake();
+}
 
 PublishSource Simulation::add_publish_source() {
   std::lock_guard lock(interest_mutex_);
@@ -254,6 +261,7 @@ void Simulation::pass(Clock::duration step_budget) {
 void Simulation::advance() {
   record_.note_change();
   loads_.apply(world_);
+  step_loads_.apply(world_);  // empty unless a Step brought its own
   world_.step(dt_);
   ++next_tick_;
   tick_.store(next_tick_, std::memory_order_relaxed);

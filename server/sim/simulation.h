@@ -13,9 +13,12 @@
 // its clock. The journal and checkpoints: sim/run_record.h.
 //
 // Paused, the loop keeps its cadence and keeps applying commands, but does
-// not step: the tick stays put. A Step request then runs its ticks back to
-// back (at most one tick period of wall time per pass, so commands are
-// still served between bursts). A Pause, Resume or Reset ends a Step under
+// not step: the tick stays put. A request submitted while paused wakes the
+// loop for a pass at once (TickLoop::wake), so a lockstep client's Step is
+// taken up as it arrives, not up to a tick period later. A Step request
+// then runs its ticks back to back (at most one tick period of wall time
+// per pass, so commands are still served between bursts), with its own
+// forces and torques, and may be answered with the frame of its last tick. A Pause, Resume or Reset ends a Step under
 // way, which is answered then with the tick it reached; so a Step runs only
 // while paused, and a paused world's tick moves only through a Step. An
 // edit of the world while paused is published at once as an out-of-band
@@ -256,8 +259,11 @@ class Simulation {
   // or end_step() cuts it short.
   std::optional<ServerMessage> step(Command& command);
   // Answers the Step under way, if any, with the tick reached, the ticks
-  // left (steps_left_) and `end`, and forgets it.
+  // left (steps_left_), `end` and, when it asked, the frame of that tick,
+  // and forgets it and its loads.
   void end_step(tumble::v1::StepEnd end);
+  // The FULL PoseFrame of step_frame_bodies_ (empty: every body) as they are now.
+  void fill_step_frame(tumble::v1::PoseFields fields, tumble::v1::PoseFrame* frame) const;
   ServerMessage reset(const ClientMessage& message);
   ServerMessage set_tick_rate(const ClientMessage& message);
   ServerMessage stats(const ClientMessage& message) const;
@@ -278,12 +284,14 @@ class Simulation {
   std::uint64_t rate_since_tick_ = 0;  // the tick at which dt_ took effect
   double rate_since_time_ = 0;         // s, sim time at that tick
   bool paused_ = false;
-  std::uint32_t steps_left_ = 0;       // ticks of the Step under way; never above 0 while running
-  Command step_command_;               // the Step under way (empty when none), answered by end_step()
-  bool edited_ = false;                // the world was edited since the last snapshot
-  std::uint64_t bodies_diverged_ = 0;  // removed by remove_diverged() since the start
-  SleepWatch sleep_;                   // watching while sleep_events_wanted_
-  WorldEvents events_;                 // of the tick being made
+  std::uint32_t steps_left_ = 0;                    // ticks of the Step under way; never above 0 while running
+  Command step_command_;                            // the Step under way (empty when none), answered by end_step()
+  BodyLoads step_loads_;                            // the Step under way's own forces and torques, dropped when it ends
+  std::vector<physics::BodyId> step_frame_bodies_;  // Step.frame_bodies, resolved; empty: every body
+  bool edited_ = false;                             // the world was edited since the last snapshot
+  std::uint64_t bodies_diverged_ = 0;               // removed by remove_diverged() since the start
+  SleepWatch sleep_;                                // watching while sleep_events_wanted_
+  WorldEvents events_;                              // of the tick being made
   TickTiming timing_;
   RunRecord record_;  // the journal and the checkpoints
   std::vector<SnapshotListener> listeners_;

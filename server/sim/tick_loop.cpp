@@ -42,6 +42,14 @@ void TickLoop::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+void TickLoop::wake() {
+  {
+    std::lock_guard lock(run_mutex_);
+    woken_ = true;
+  }
+  run_wakeup_.notify_all();
+}
+
 void TickLoop::run() {
   // Named for top -H, perf and /proc/PID/task/*/comm (at most 15 characters).
   pthread_setname_np(pthread_self(), "tumbled-sim");
@@ -55,10 +63,17 @@ void TickLoop::run() {
   std::unique_lock lock(run_mutex_);
   Clock::time_point due = start;  // when this pass should begin
   while (!stopping_) {
+    const bool woken = std::exchange(woken_, false);
     lock.unlock();
     // Late after a deadline: woken late, or behind (the last pass overran).
-    pass_(std::max(0.0, milliseconds(Clock::now() - due)));
+    // A pass run by wake() has no deadline, and is not late.
+    pass_(woken ? 0.0 : std::max(0.0, milliseconds(Clock::now() - due)));
     ++ticks_since_start;
+    if (woken) {
+      // Deadlines afresh from the end of this pass: the next is a period away.
+      start = Clock::now();
+      ticks_since_start = 1;
+    }
     if (const double now_rate = tick_rate_hz_(); now_rate != rate) {
       // A new rate: count deadlines afresh at the new period from the end of this pass.
       rate = now_rate;
@@ -73,7 +88,7 @@ void TickLoop::run() {
     due = deadline;
     lock.lock();
     if (now < deadline) {
-      run_wakeup_.wait_until(lock, deadline, [this] { return stopping_; });
+      run_wakeup_.wait_until(lock, deadline, [this] { return stopping_ || woken_; });
     } else if (now - deadline > max_catch_up_ticks_ * period) {
       // Too far behind to catch up: skip the missed deadlines and start counting again from now.
       const auto missed = static_cast<std::uint64_t>((now - deadline) / period);

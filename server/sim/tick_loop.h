@@ -4,8 +4,11 @@
 // more than max_catch_up_ticks periods behind skips the missed deadlines,
 // counts them as overruns and counts deadlines afresh from now. The period
 // is 1 / tick_rate_hz(), read after every pass: when it changes, deadlines
-// are counted afresh at the new period from the end of that pass. The
-// thread waits on nothing but its clock and stop().
+// are counted afresh at the new period from the end of that pass. wake()
+// runs a pass at once, without waiting for its deadline; deadlines are then
+// counted afresh from the end of that pass too, so a woken pass is never
+// followed by one less than a period later. The thread waits on nothing but
+// its clock, wake() and stop().
 //
 // Thread: start() and stop() from one owning thread; overruns() from any.
 #pragma once
@@ -36,6 +39,10 @@ class TickLoop {
              std::function<double()> tick_rate_hz);
   // Stops and joins the thread after the pass under way. Idempotent.
   void stop();
+  // Runs the next pass now: at once when the loop waits for a deadline,
+  // right after the pass under way otherwise. Any thread; many wakes before
+  // the pass make one.
+  void wake();
 
   // Deadlines skipped because the loop fell too far behind its clock.
   std::uint64_t overruns() const { return overruns_.load(std::memory_order_relaxed); }
@@ -52,6 +59,7 @@ class TickLoop {
   std::mutex run_mutex_;
   std::condition_variable run_wakeup_;
   bool stopping_ = false;  // guarded by run_mutex_
+  bool woken_ = false;     // guarded by run_mutex_
   std::thread thread_;
 };
 

@@ -463,6 +463,111 @@ TEST_F(ControlTest, TwoStepsInOnePassTheSecondIsRefused) {
   EXPECT_EQ(driver_.sim().tick(), 3u);
 }
 
+// A Step of `ticks` with a force on `body` and, with `frame`, a frame reply.
+ClientMessage step_with_force(std::uint32_t ticks, const std::string& body, double fx, bool frame) {
+  ClientMessage message = step_message(ticks);
+  auto* force = message.mutable_step()->add_forces();
+  force->mutable_body()->set_name(body);
+  force->mutable_force()->set_x(fx);
+  message.mutable_step()->set_reply_frame(frame);
+  return message;
+}
+
+TEST_F(ControlTest, AStepsForcesActOnItsTicksAndNoOthers) {
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  const ServerMessage stepped = driver_.request(step_with_force(10, "crate", 4, false));
+  ASSERT_TRUE(stepped.has_ack()) << stepped.DebugString();
+  EXPECT_EQ(stepped.ack().applied_tick(), 10u);
+  EXPECT_FALSE(stepped.ack().has_frame()) << "no frame unless asked";
+  EXPECT_NEAR(driver_.world().linear_momentum(0).x(), 4.0 * 10 * kDt, 1e-14) << "the force acted in 10 steps";
+  EXPECT_EQ(driver_.sim().loads().size(), 0u) << "the Step's loads are not the world's";
+  ASSERT_TRUE(driver_.request(step_message(5)).has_ack());
+  EXPECT_NEAR(driver_.world().linear_momentum(0).x(), 4.0 * 10 * kDt, 1e-14) << "and in no step after";
+}
+
+TEST_F(ControlTest, AStepAnswersWithTheFrameOfItsLastTick) {
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  ClientMessage message = step_with_force(3, "crate", 2, true);
+  auto* torque = message.mutable_step()->add_torques();
+  torque->mutable_body()->set_name("ball");
+  torque->mutable_torque()->set_z(0.4);
+  const ServerMessage stepped = driver_.request(message);
+  ASSERT_TRUE(stepped.has_ack()) << stepped.DebugString();
+  const tumble::v1::PoseFrame& frame = stepped.ack().frame();
+  EXPECT_EQ(frame.tick(), 3u);
+  EXPECT_EQ(frame.tick(), stepped.ack().applied_tick());
+  EXPECT_DOUBLE_EQ(frame.sim_time(), 3 * kDt);
+  ASSERT_EQ(frame.ids_size(), 2) << "every body";
+  EXPECT_EQ(frame.ids(0), 0u);
+  EXPECT_EQ(frame.ids(1), 1u);
+  ASSERT_EQ(frame.positions_size(), 6);
+  ASSERT_EQ(frame.orientations_size(), 8);
+  ASSERT_EQ(frame.linear_velocities_size(), 6);
+  ASSERT_EQ(frame.angular_velocities_size(), 6);
+  EXPECT_FLOAT_EQ(frame.linear_velocities(0), static_cast<float>(driver_.world().linear_velocity(0).x()));
+  EXPECT_FLOAT_EQ(frame.positions(0), static_cast<float>(driver_.world().position(0).x()));
+  EXPECT_GT(frame.positions(0), 0.0f) << "the frame is of the state after the force";
+  EXPECT_FLOAT_EQ(frame.angular_velocities(5), static_cast<float>(driver_.world().angular_velocity(1).z()));
+  EXPECT_GT(frame.angular_velocities(5), 0.0f);
+
+  // Named bodies only, poses only.
+  ClientMessage named = step_message(1);
+  named.mutable_step()->set_reply_frame(true);
+  named.mutable_step()->add_frame_bodies()->set_name("ball");
+  named.mutable_step()->set_frame_fields(tumble::v1::POSE_FIELDS_POSE);
+  const ServerMessage named_reply = driver_.request(named);
+  const tumble::v1::PoseFrame& ball = named_reply.ack().frame();
+  ASSERT_EQ(ball.ids_size(), 1);
+  EXPECT_EQ(ball.ids(0), 1u);
+  EXPECT_EQ(ball.positions_size(), 3);
+  EXPECT_EQ(ball.linear_velocities_size(), 0);
+  EXPECT_FLOAT_EQ(ball.positions(0), 5.0f);
+}
+
+TEST_F(ControlTest, AStepNamingAnUnknownBodyIsRefusedAndNothingIsApplied) {
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  ClientMessage message = step_with_force(3, "crate", 2, true);
+  message.mutable_step()->add_frame_bodies()->set_name("nobody");
+  const ServerMessage refused = driver_.request(message);
+  ASSERT_TRUE(refused.has_error());
+  EXPECT_EQ(refused.error().code(), tumble::v1::UNKNOWN_BODY);
+  EXPECT_EQ(refused.error().message(), "no body 'nobody' in the world");
+  driver_.run(3);
+  EXPECT_EQ(driver_.sim().tick(), 0u) << "nothing stepped";
+  EXPECT_EQ(driver_.request(step_message(2)).ack().applied_tick(), 2u);
+  EXPECT_EQ(driver_.world().linear_momentum(0).x(), 0.0) << "the refused Step's force never acted";
+}
+
+TEST_F(ControlTest, AStepCutShortDropsItsForcesAndAnswersWithTheFrameItReached) {
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  auto step = driver_.submit(step_with_force(100, "crate", 2, true));
+  driver_.run(3);  // one tick of the Step a call
+  ASSERT_FALSE(step->has_value());
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  ASSERT_TRUE(step->has_value());
+  const tumble::v1::Ack& ack = (*step)->ack();
+  EXPECT_EQ(ack.step_ended_by(), tumble::v1::STEP_END_PAUSE);
+  EXPECT_EQ(ack.frame().tick(), ack.applied_tick());
+  EXPECT_EQ(ack.step_ticks_left(), 100 - ack.applied_tick());
+  const double momentum = driver_.world().linear_momentum(0).x();
+  EXPECT_NEAR(momentum, 2.0 * static_cast<double>(ack.applied_tick()) * kDt, 1e-14);
+  ASSERT_TRUE(driver_.request(step_message(5)).has_ack());
+  EXPECT_EQ(driver_.world().linear_momentum(0).x(), momentum) << "the force ended with its Step";
+}
+
+TEST_F(ControlTest, AStepsForcesTakeNoDuration) {
+  ASSERT_TRUE(driver_.request(pause_message()).has_ack());
+  ClientMessage timed = step_with_force(3, "crate", 2, false);
+  timed.mutable_step()->mutable_forces(0)->set_ticks(2);
+  const ServerMessage refused = driver_.request(timed);
+  ASSERT_TRUE(refused.has_error());
+  EXPECT_EQ(refused.error().code(), tumble::v1::INVALID_ARGUMENT);
+  EXPECT_EQ(refused.error().message(),
+            "forces[0]: a Step's force acts for the Step's ticks and takes no duration or persistent");
+  ClientMessage nameless = step_with_force(3, "", 2, false);
+  EXPECT_EQ(driver_.request(nameless).error().message(), "forces[0].body name must not be empty");
+}
+
 TEST_F(ControlTest, StepOutOfRangeIsInvalid) {
   ASSERT_TRUE(driver_.request(pause_message()).has_ack());
   EXPECT_EQ(driver_.request(step_message(0)).error().code(), tumble::v1::INVALID_ARGUMENT);

@@ -112,5 +112,36 @@ TEST(TickLoop, SkipsAndCountsTheDeadlinesOfAPassFarBehind) {
   EXPECT_GE(loop.overruns(), 19u);
 }
 
+// A loop at 1 Hz woken after its first pass runs its second at once, not a
+// second later, and its third a period after the second: deadlines count
+// afresh from a woken pass (else the third would wait for the deadline two
+// periods after the first, and a stream of wakes would push the deadlines
+// ever further ahead of the clock).
+TEST(TickLoop, WakeRunsAPassAtOnceAndTheNextAPeriodAfterIt) {
+  TickLoop loop(8);
+  PassLog log;
+  std::mutex mutex;
+  std::vector<Clock::time_point> starts;
+  loop.start([] {},
+             [&](double late_ms) {
+               {
+                 std::lock_guard lock(mutex);
+                 starts.push_back(Clock::now());
+               }
+               log.add(late_ms);
+             },
+             [] { return 1.0; });
+  log.wait_for(1);
+  const Clock::time_point woken = Clock::now();
+  loop.wake();
+  const std::vector<double> late = log.wait_for(3);
+  loop.stop();
+  std::lock_guard lock(mutex);
+  EXPECT_LT(starts[1] - woken, milliseconds(500)) << "a woken pass does not wait for its deadline, 1 s away";
+  EXPECT_EQ(late[1], 0.0) << "a woken pass is not late";
+  EXPECT_GT(starts[2] - starts[1], milliseconds(900));
+  EXPECT_LT(starts[2] - starts[1], milliseconds(1500)) << "the next deadline is a period after the woken pass";
+}
+
 }  // namespace
 }  // namespace tumble::sim
