@@ -9,8 +9,14 @@
 // correcting velocity, successive over-relaxation 1.3, and auto-disable
 // (sleeping, switched on here unless EngineOptions turn sleeping off) of
 // bodies slower than 0.01 m/s and 0.01 rad/s for 10 steps.
+//
+// Joints: a ball joint is dJointCreateBall, without its cone (ODE's ball
+// joint has no cone limit); a hinge is dJointCreateHinge with dParamLoStop
+// and dParamHiStop. Both use the global ERP and CFM. Bodies a joint
+// connects are not collided.
 #include <ode/ode.h>
 
+#include <cstddef>
 #include <vector>
 
 #include "engine.h"
@@ -71,9 +77,30 @@ class OdeEngine final : public Engine {
       dGeomSetBody(geom, id);
       bodies_.push_back(id);
     }
+
+    for (const SceneJoint& joint : scene.joints) {
+      // ODE's hinge angle is that of its first body relative to its second:
+      // body_b goes first, so the angle is body_b's relative to body_a as
+      // the scene has it. A null second body is the world.
+      const dBodyID child = bodies_[static_cast<std::size_t>(joint.body_b)];
+      const dBodyID parent = joint.body_a == kWorld ? nullptr : bodies_[static_cast<std::size_t>(joint.body_a)];
+      const Vec3& p = joint.anchor;
+      if (joint.type == JointType::hinge) {
+        const dJointID hinge = dJointCreateHinge(world_, nullptr);
+        dJointAttach(hinge, child, parent);
+        dJointSetHingeAnchor(hinge, p.x(), p.y(), p.z());
+        dJointSetHingeAxis(hinge, joint.axis.x(), joint.axis.y(), joint.axis.z());
+        dJointSetHingeParam(hinge, dParamLoStop, joint.lower);
+        dJointSetHingeParam(hinge, dParamHiStop, joint.upper);
+      } else {
+        const dJointID ball = dJointCreateBall(world_, nullptr);
+        dJointAttach(ball, child, parent);
+        dJointSetBallAnchor(ball, p.x(), p.y(), p.z());
+      }
+    }
   }
 
-  // The space destroys its geoms; the world its bodies.
+  // The space destroys its geoms; the world its bodies and joints.
   ~OdeEngine() override {
     dJointGroupDestroy(contacts_);
     dSpaceDestroy(space_);
@@ -116,6 +143,8 @@ class OdeEngine final : public Engine {
     const bool a_moves = body_a != nullptr && dBodyIsEnabled(body_a);
     const bool b_moves = body_b != nullptr && dBodyIsEnabled(body_b);
     if (!a_moves && !b_moves) return;
+    // Joined by a joint (this step's contact joints aside).
+    if (body_a != nullptr && body_b != nullptr && dAreConnectedExcluding(body_a, body_b, dJointTypeContact)) return;
 
     dContact contact[kMaxContactsPerPair] = {};
     const int count = dCollide(a, b, kMaxContactsPerPair, &contact[0].geom, sizeof(dContact));

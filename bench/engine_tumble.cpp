@@ -1,5 +1,7 @@
 // tumble's own engine, with its default WorldSettings (sleeping on unless
-// EngineOptions say otherwise).
+// EngineOptions say otherwise). Joints are tumble's own (joint.h), with
+// their defaults: the bodies they connect do not collide.
+#include <cstddef>
 #include <vector>
 
 #include "engine.h"
@@ -44,6 +46,22 @@ class TumbleEngine final : public Engine {
       desc.orientation = body.orientation;
       desc.friction = kFriction;  // combined as sqrt(f_a f_b) = 0.5
       ids_.push_back(world_.add_body(desc));
+    }
+
+    for (const SceneJoint& joint : scene.joints) {
+      tp::JointDesc desc;
+      desc.type = joint.type == JointType::ball ? tp::JointType::ball : tp::JointType::hinge;
+      desc.body_a = joint.body_a == kWorld ? tp::kWorldBodyId : ids_[static_cast<std::size_t>(joint.body_a)];
+      desc.body_b = ids_[static_cast<std::size_t>(joint.body_b)];
+      // Both frames at the anchor with their x axes along the joint's axis.
+      world_.set_joint_frames(desc, joint.anchor, joint.anchor, joint.axis);
+      desc.cone_limit = joint.cone;
+      if (joint.type == JointType::hinge) {
+        desc.limits_enabled = true;
+        desc.lower = joint.lower;
+        desc.upper = joint.upper;
+      }
+      world_.add_joint(desc);
     }
   }
 

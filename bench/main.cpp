@@ -1,6 +1,7 @@
 // physics_compare: runs the same scenes in tumble, Bullet and ODE and prints,
-// per scene and engine, the median wall time of a step and how deep bodies
-// sank into the ground and into each other. See README.md.
+// per scene and engine, the median wall time of a step, how deep bodies
+// sank into the ground and into each other, and, in scenes with joints, how
+// far the joints came apart. See README.md.
 //
 // The engines of a scene run in lockstep: every engine advances one step,
 // then every engine the next, in an order that rotates from step to step, so
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "engine.h"
+#include "joint_separation.h"
 #include "penetration.h"
 #include "scenes.h"
 
@@ -32,6 +34,8 @@ struct EngineResult {
   Penetration end;               // overlaps after the last step
   std::size_t below_ground = 0;  // after the last step
   std::size_t awake = 0;         // after the last step
+  double worst_separation = 0;   // largest joint separation after any step (m)
+  double end_separation = 0;     // after the last step
 };
 
 double median(std::vector<double> values) {
@@ -61,6 +65,7 @@ std::vector<EngineResult> run_scene(const Scene& scene, const std::vector<std::s
   for (int rep = 0; rep < repetitions; ++rep) {
     std::vector<std::unique_ptr<Engine>> worlds;
     std::vector<PenetrationProbe> probes;
+    const JointSeparationProbe joints(scene);
     for (const std::string& name : engines) {
       worlds.push_back(make_engine(name, scene, options));
       probes.emplace_back(scene);
@@ -80,8 +85,11 @@ std::vector<EngineResult> run_scene(const Scene& scene, const std::vector<std::s
         const Penetration now = probes[e].measure(poses);
         results[e].worst.ground = std::max(results[e].worst.ground, now.ground);
         results[e].worst.bodies = std::max(results[e].worst.bodies, now.bodies);
+        const double separation = joints.measure(poses);
+        results[e].worst_separation = std::max(results[e].worst_separation, separation);
         if (step + 1 == scene.steps) {
           results[e].end = now;
+          results[e].end_separation = separation;
           results[e].below_ground = count_below_ground(poses);
           results[e].awake = worlds[e]->awake_count();
         }
@@ -104,8 +112,8 @@ int run(int argc, char** argv) {
   CLI::App app{
       "Runs the same rigid-body scenes in tumble, Bullet and ODE at 60 steps per second on one thread (tumble "
       "on --tumble-threads), and "
-      "prints per scene and engine the median ms per step, the deepest penetration and the bodies that "
-      "fell through the ground."};
+      "prints per scene and engine the median ms per step, the deepest penetration, the bodies that "
+      "fell through the ground and the largest joint separation."};
   std::vector<std::string> scenes = scene_names();
   std::vector<std::string> engines = engine_names();
   int steps = 0;
@@ -142,19 +150,25 @@ int run(int argc, char** argv) {
     Scene scene = make_scene(name, smoke);
     if (steps > 0) scene.steps = steps;
     std::fprintf(stderr,
-                 "# %s: %zu bodies, %zu walls, %d steps of %.4f s, %d repetition(s), sleeping %s, tumble on %d "
-                 "thread(s)\n",
-                 scene.name.c_str(), scene.bodies.size(), scene.walls.size(), scene.steps, kTimeStep, repetitions,
-                 options.sleeping ? "on" : "off", options.tumble_threads);
+                 "# %s: %zu bodies, %zu walls, %zu joints, %d steps of %.4f s, %d repetition(s), sleeping %s, tumble "
+                 "on %d thread(s)\n",
+                 scene.name.c_str(), scene.bodies.size(), scene.walls.size(), scene.joints.size(), scene.steps,
+                 kTimeStep, repetitions, options.sleeping ? "on" : "off", options.tumble_threads);
     for (const EngineResult& result : run_scene(scene, without_repeats(engines), options, repetitions)) {
       const double worst = std::max(result.worst.ground, result.worst.bodies);
-      all_finite = all_finite && std::isfinite(worst);
+      all_finite = all_finite && std::isfinite(worst) && std::isfinite(result.worst_separation);
       std::printf(
           "scene=%s engine=%s ms_per_step=%.4f max_penetration=%.4f below_ground=%zu mean_ms_per_step=%.4f "
-          "ground_penetration=%.4f body_penetration=%.4f end_penetration=%.4f awake_end=%zu\n",
+          "ground_penetration=%.4f body_penetration=%.4f end_penetration=%.4f awake_end=%zu",
           scene.name.c_str(), result.engine.c_str(), median(result.step_ms), worst, result.below_ground,
           mean(result.step_ms), result.worst.ground, result.worst.bodies,
           std::max(result.end.ground, result.end.bodies), result.awake);
+      // Scenes without joints keep the line they always had.
+      if (!scene.joints.empty()) {
+        std::printf(" max_joint_separation=%.4f end_joint_separation=%.4f", result.worst_separation,
+                    result.end_separation);
+      }
+      std::printf("\n");
       std::fflush(stdout);
     }
   }

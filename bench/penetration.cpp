@@ -70,6 +70,13 @@ PenetrationProbe::PenetrationProbe(const Scene& scene) : bodies_(scene.bodies) {
   std::uint32_t buckets = 64;
   while (buckets < 2 * bodies_.size()) buckets *= 2;
   bucket_mask_ = buckets - 1;
+  for (const SceneJoint& joint : scene.joints) {
+    if (joint.body_a == kWorld) continue;
+    const auto a = static_cast<std::uint32_t>(joint.body_a);
+    const auto b = static_cast<std::uint32_t>(joint.body_b);
+    joined_.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  std::sort(joined_.begin(), joined_.end());
   bucket_start_.resize(buckets + 1);
   cursor_.resize(buckets);
   order_.resize(bodies_.size());
@@ -158,6 +165,11 @@ Penetration PenetrationProbe::measure(const std::vector<Pose>& poses) {
         if (b <= a || !finite_[b]) continue;
         const double reach = bounding_radius_[a] + bounding_radius_[b];
         if ((positions_[b] - positions_[a]).squaredNorm() >= reach * reach) continue;
+        if (!joined_.empty() &&
+            std::binary_search(joined_.begin(), joined_.end(),
+                               std::pair(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)))) {
+          continue;
+        }
         result.bodies = std::max(result.bodies, pair_depth(a, b));
       }
     }

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "engine.h"
@@ -21,7 +22,8 @@ struct Penetration {
 
 // Measures Penetration for poses of one scene's bodies. Body pairs are found
 // with a spatial hash of the bounding spheres; the probe keeps its scratch
-// arrays between calls. The walls are not measured.
+// arrays between calls. The walls are not measured, nor pairs a joint
+// connects (they do not collide, and may overlap where they are joined).
 class PenetrationProbe {
  public:
   // Keeps a reference to scene.bodies: the scene must outlive the probe.
@@ -37,6 +39,8 @@ class PenetrationProbe {
   std::vector<double> bounding_radius_;  // per body
   double cell_size_ = 1;                 // m: at least the largest bounding diameter
   std::uint32_t bucket_mask_ = 0;        // bucket count - 1 (a power of two)
+  // Pairs of bodies a joint connects, (lower index, higher), sorted.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> joined_;
 
   // Scratch of one measure() call.
   std::vector<Vec3> positions_;

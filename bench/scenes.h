@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -44,16 +45,47 @@ struct StaticBox {
   Vec3 position = Vec3::Zero();
 };
 
-// Everything an engine builds, plus the number of steps to run.
+enum class JointType { ball, hinge };
+
+// SceneJoint::body_a naming the world instead of a body.
+inline constexpr int kWorld = -1;
+
+// A joint between two dynamic bodies (indices into Scene::bodies), or
+// between the world (body_a = kWorld) and a body, as it is at the start:
+// anchor and axis are a world point and a world direction at the bodies'
+// starting poses. Each engine fixes them to the bodies there.
+//   ball   anchors coincide; with a cone, the angle between the axis as
+//          fixed to body_a and as fixed to body_b stays within cone
+//   hinge  anchors coincide and the axes stay aligned; the angle of body_b
+//          about the axis relative to body_a (0 at the start, positive
+//          counter-clockwise about the axis) stays within [lower, upper]
+struct SceneJoint {
+  JointType type = JointType::ball;
+  int body_a = kWorld;
+  int body_b = 0;
+  Vec3 anchor = Vec3::Zero();
+  Vec3 axis = Vec3::UnitX();                              // unit
+  double cone = std::numeric_limits<double>::infinity();  // rad, ball only; infinity: none
+  double lower = 0;                                       // rad, hinge only
+  double upper = 0;                                       // rad, hinge only
+};
+
+// Everything an engine builds, plus the number of steps to run. Bodies a
+// joint connects do not collide with each other in any engine.
 struct Scene {
   std::string name;
   std::vector<DynamicBody> bodies;
   std::vector<StaticBox> walls;
+  std::vector<SceneJoint> joints;
   int steps = 0;
 };
 
+// A world point in a body's frame (relative to its centre of mass) at the
+// body's starting pose.
+Vec3 body_point(const DynamicBody& body, const Vec3& world_point);
+
 // The scene names, in the order they run by default: pile, pyramid, spheres,
-// landing.
+// landing, chain, ragdolls.
 const std::vector<std::string>& scene_names();
 
 // Builds a named scene (one of scene_names()). smoke gives a small version of

@@ -18,7 +18,7 @@ std::uint32_t ContactIslands::root(std::uint32_t body) {
 }
 
 void ContactIslands::add_body(std::uint32_t body, std::span<const double> inverse_mass) {
-  if (inverse_mass[body] == 0 || listed_[body]) return;
+  if (body == kNoJointBody || inverse_mass[body] == 0 || listed_[body]) return;
   listed_[body] = 1;
   bodies_.push_back(body);
 }
@@ -31,12 +31,14 @@ void ContactIslands::reserve(std::size_t constraints) {
 }
 
 void ContactIslands::build(std::span<const Contact> contacts, std::span<const ContactLink> links,
-                           std::span<const std::uint32_t> active, std::span<const double> inverse_mass) {
+                           std::span<const std::uint32_t> active, std::span<const JointConstraint> joints,
+                           std::span<const double> inverse_mass) {
   constraint_count_ = 0;
   point_count_ = 0;
   islands_.clear();
   bodies_.clear();
   pending_.clear();
+  joints_.clear();
   const std::size_t body_count = inverse_mass.size();
   if (listed_.size() < body_count) {
     listed_.resize(body_count, 0);
@@ -44,23 +46,27 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
     island_of_root_.resize(body_count, kNone);
   }
 
-  // The contacts with points, and the forest their dynamic bodies form.
-  auto dynamic = [&](std::uint32_t body) { return inverse_mass[body] != 0; };
-  for (std::uint32_t index : active) {
-    if (contacts[index].manifold.point_count == 0) continue;
-    pending_.push_back(index);
-    const std::uint32_t a = links[index].body_a, b = links[index].body_b;
+  // The contacts with points and the joints, and the forest their dynamic
+  // bodies form.
+  auto dynamic = [&](std::uint32_t body) { return body != kNoJointBody && inverse_mass[body] != 0; };
+  auto join = [&](std::uint32_t a, std::uint32_t b) {
     if (dynamic(a) && parent_[a] == kNone) parent_[a] = a;
     if (dynamic(b) && parent_[b] == kNone) parent_[b] = b;
     if (dynamic(a) && dynamic(b)) {
       const std::uint32_t root_a = root(a), root_b = root(b);
       // The smaller index becomes the root, so the forest's shape depends
-      // only on the order of the contacts.
+      // only on the order of the contacts and joints.
       if (root_a < root_b) parent_[root_b] = root_a;
       if (root_b < root_a) parent_[root_a] = root_b;
     }
+  };
+  for (std::uint32_t index : active) {
+    if (contacts[index].manifold.point_count == 0) continue;
+    pending_.push_back(index);
+    join(links[index].body_a, links[index].body_b);
   }
-  if (pending_.empty()) return;
+  for (const JointConstraint& j : joints) join(j.body_a, j.body_b);
+  if (pending_.empty() && joints.empty()) return;
 
   // Islands numbered in the order their first contact comes; counted first,
   // so each island's constraints can be placed in a range of their own.
@@ -84,12 +90,32 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
     ++islands_[island].constraint_count;
     islands_[island].point_count += static_cast<std::uint32_t>(contacts[index].manifold.point_count);
   }
-  std::uint32_t first = 0, first_point = 0;
+  // The joints' islands: their bodies' (every joint has a dynamic body).
+  island_of_joint_.resize(joints.size());
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    const JointConstraint& j = joints[k];
+    const std::uint32_t r = root(dynamic(j.body_a) ? j.body_a : j.body_b);
+    if (island_of_root_[r] == kNone) {
+      island_of_root_[r] = static_cast<std::uint32_t>(islands_.size());
+      islands_.emplace_back();
+    }
+    island_of_joint_[k] = island_of_root_[r];
+    ++islands_[island_of_root_[r]].joint_count;
+  }
+  std::uint32_t first = 0, first_point = 0, first_joint = 0;
   for (ContactIsland& island : islands_) {
     island.first_constraint = first;
     first += island.constraint_count;
     first_point += island.point_count;
     island.constraint_count = 0;  // counts again as the constraints are placed
+    island.first_joint = first_joint;
+    first_joint += island.joint_count;
+    island.joint_count = 0;
+  }
+  joints_.resize(joints.size());
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    ContactIsland& island = islands_[island_of_joint_[k]];
+    joints_[island.first_joint + island.joint_count++] = joints[k];
   }
   // Grown, never shrunk: the entries of a build are all written below.
   constraint_count_ = pending_.size();
@@ -111,6 +137,11 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
       const ContactConstraint& c = constraints_[island.first_constraint + k];
       add_body(c.body_a, inverse_mass);
       add_body(c.body_b, inverse_mass);
+    }
+    for (std::uint32_t k = 0; k < island.joint_count; ++k) {
+      const JointConstraint& j = joints_[island.first_joint + k];
+      add_body(j.body_a, inverse_mass);
+      add_body(j.body_b, inverse_mass);
     }
     island.body_count = static_cast<std::uint32_t>(bodies_.size()) - island.first_body;
   }

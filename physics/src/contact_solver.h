@@ -73,6 +73,7 @@
 #include "constraint_graph.h"
 #include "contact.h"
 #include "contact_islands.h"
+#include "joint_solver.h"
 #include "solver_body.h"
 #include "tumble/physics/math.h"
 #include "tumble/physics/task_system.h"
@@ -88,16 +89,21 @@ struct ContactSolverSettings {
   double damping_ratio = 10;  // of that push
   double max_push_speed = 3;  // m/s
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
+  double joint_hertz = 0;              // the joints' position correction (Hz); 0: twice contact_hertz
+  double joint_damping_ratio = 2;
 };
 
 class ContactSolver {
  public:
   // Builds this step's islands (contact_islands.h) from the contacts in
   // active that have points (links[k] names the bodies of contacts[k]) and
-  // takes the step's settings. contacts and bodies must stay unchanged
-  // until solve() returns; solve() writes the contacts' impulses.
+  // the joints to solve (joint_edges, each naming one of joints), and takes
+  // the step's settings. contacts, joints and bodies must stay unchanged
+  // until solve() returns; solve() writes the contacts' and the joints'
+  // impulses (joint_solver.h).
   void prepare(std::span<Contact> contacts, std::span<const ContactLink> links, std::span<const std::uint32_t> active,
-               const ContactSolverBodies& bodies, double dt, const ContactSolverSettings& settings);
+               std::span<Joint> joints, std::span<const JointConstraint> joint_edges, const ContactSolverBodies& bodies,
+               double dt, const ContactSolverSettings& settings);
   // Room for this many constraints and four points each, reserved (not
   // written) ahead of need, so a step whose contacts multiply does not copy
   // the rows it has built so far.
@@ -120,12 +126,13 @@ class ContactSolver {
   // / dt and the same for rotation, where v and w are the final velocities.
   SolverVelocity pseudo_velocity(std::uint32_t body, const SolverVelocity& final_velocity) const;
   std::size_t constraint_count() const { return islands_.constraints().size(); }
+  std::size_t joint_count() const { return islands_.joints().size(); }
   std::size_t point_count() const { return islands_.point_count(); }
   std::size_t island_count() const { return islands_.islands().size(); }
 
  private:
-  // Consecutive islands solved as one task: their constraints and bodies
-  // (contiguous, as the islands'), the body slots [first_slot, + slot_count)
+  // Consecutive islands solved as one task: their constraints, joints and
+  // bodies (contiguous, as the islands'), the body slots [first_slot, + slot_count)
   // of solver_bodies_ (slot first_slot is the group's slot of zeros) and the
   // wide constraints [first_wide, + wide_count).
   struct Group {
@@ -133,7 +140,9 @@ class ContactSolver {
     std::uint32_t constraint_count = 0;
     std::uint32_t first_body = 0;
     std::uint32_t body_count = 0;
-    std::uint32_t point_count = 0;
+    std::uint32_t first_joint = 0;
+    std::uint32_t joint_count = 0;
+    std::uint32_t point_count = 0;  // the contacts' points, and kJointPoints for each joint: the group's work
     std::uint32_t first_slot = 0;
     std::uint32_t slot_count = 0;
     std::uint32_t first_wide = 0;
@@ -153,6 +162,7 @@ class ContactSolver {
   void solve_group(const Group& group, std::span<SolverVelocity> velocities);
   void warm_start(const Group& group);
   void solve_pass(const Group& group, bool soft);
+  void solve_joints(const Group& group, bool soft);
   void apply_restitution(const Group& group);
   void store_impulses(const Group& group) const;
 
@@ -177,7 +187,16 @@ class ContactSolver {
   std::vector<std::uint32_t> slot_of_body_;
   std::vector<std::uint64_t> slot_stamp_;
   std::uint64_t plan_stamp_ = 0;
+  // The slots of each joint of islands_.joints() in its group, and its row.
+  struct JointSlots {
+    std::uint32_t a = 0;
+    std::uint32_t b = 0;
+  };
+  std::vector<JointSlots> joint_slots_;
+  std::vector<JointRow> joint_rows_;
   std::span<Contact> contacts_;
+  std::span<Joint> joints_;
+  JointStepSettings joint_settings_;
   ContactSolverBodies bodies_;
   ContactSolverSettings settings_;
   double dt_ = 0;

@@ -15,6 +15,9 @@ namespace {
 // the lanes of each colour, few enough that the landing of a thousand boxes
 // makes several tasks for a team.
 constexpr std::uint32_t kGroupPoints = 1024;
+// What a joint weighs in a group's work, in contact points: its rows are
+// solved one at a time, in double precision.
+constexpr std::uint32_t kJointPoints = 8;
 
 }  // namespace
 
@@ -30,12 +33,19 @@ void ContactSolver::solve(std::span<SolverVelocity> velocities, TaskSystem* team
       Group group;
       group.first_constraint = island.first_constraint;
       group.first_body = island.first_body;
+      group.first_joint = island.first_joint;
       groups_.push_back(group);
     }
     Group& group = groups_.back();
     group.constraint_count += island.constraint_count;
     group.body_count += island.body_count;
-    group.point_count += island.point_count;
+    group.joint_count += island.joint_count;
+    group.point_count += island.point_count + kJointPoints * island.joint_count;
+  }
+  const std::size_t joint_count = islands_.joints().size();
+  if (joint_slots_.size() < joint_count) {
+    joint_slots_.resize(joint_count);
+    joint_rows_.resize(joint_count);
   }
   for (Group& group : groups_) plan_group(group, velocities);
   if (solver_bodies_.size() < slot_count_) {
@@ -123,6 +133,15 @@ void ContactSolver::plan_group(Group& group, std::span<const SolverVelocity> vel
     }
   }
   group.wide_count = static_cast<std::uint32_t>(wide_count_) - group.first_wide;
+
+  // The joints' slots; a side on the world reads the slot of zeros.
+  const std::span<const JointConstraint> joints = islands_.joints();
+  for (std::uint32_t k = 0; k < group.joint_count; ++k) {
+    const std::uint32_t index = group.first_joint + k;
+    const JointConstraint& j = joints[index];
+    joint_slots_[index].a = j.body_a == kNoJointBody ? 0 : slot_of(j.body_a);
+    joint_slots_[index].b = j.body_b == kNoJointBody ? 0 : slot_of(j.body_b);
+  }
   group.slot_count = static_cast<std::uint32_t>(slot_count_) - group.first_slot;
 }
 

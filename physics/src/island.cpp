@@ -1,7 +1,7 @@
 // World: islands and sleeping.
 //
 // An island is a set of dynamic bodies connected by contacts with manifold
-// points; static and kinematic bodies do not connect islands (a floor
+// points and by joints; static and kinematic bodies do not connect islands (a floor
 // under two separate piles keeps them separate). Each step every awake
 // dynamic body accumulates the time it has been slow; an island whose
 // bodies have all been slow for time_to_sleep, and that touches something,
@@ -44,6 +44,7 @@ void World::Impl::update_sleep(double dt) {
   const ContactIslands& islands = solver_.islands();
   const std::span<const std::uint32_t> bodies = islands.bodies();
   const std::span<const ContactConstraint> constraints = islands.constraints();
+  const std::span<const JointConstraint> joints = islands.joints();
   auto moving_kinematic = [&](std::uint32_t body) {
     return records_[body].motion_type == MotionType::kinematic_body && awake_[body];
   };
@@ -54,6 +55,11 @@ void World::Impl::update_sleep(double dt) {
     for (std::uint32_t k = 0; can_sleep && k < island.constraint_count; ++k) {
       const ContactConstraint& c = constraints[island.first_constraint + k];
       can_sleep = !moving_kinematic(c.body_a) && !moving_kinematic(c.body_b);
+    }
+    for (std::uint32_t k = 0; can_sleep && k < island.joint_count; ++k) {
+      const JointConstraint& j = joints[island.first_joint + k];
+      can_sleep = (j.body_a == kNoJointBody || !moving_kinematic(j.body_a)) &&
+                  (j.body_b == kNoJointBody || !moving_kinematic(j.body_b));
     }
     if (!can_sleep) continue;
     for (std::uint32_t body : members) put_to_sleep(body);
@@ -71,7 +77,7 @@ void World::Impl::put_to_sleep(std::uint32_t body) {
 
 void World::Impl::wake_island(std::uint32_t body) {
   if (records_[body].motion_type != MotionType::dynamic_body || awake_[body]) return;
-  // Flood over touching contacts to the sleeping dynamic bodies.
+  // Flood over touching contacts and joints to the sleeping dynamic bodies.
   island_stack_.clear();
   island_stack_.push_back(body);
   awake_[body] = 1;
@@ -92,6 +98,19 @@ void World::Impl::wake_island(std::uint32_t body) {
       const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
       BodyRecord& other_record = records_[other];
       if (other_record.motion_type != MotionType::dynamic_body || awake_[other]) continue;
+      awake_[other] = 1;
+      island_stack_.push_back(other);
+      if (collecting_woken_) woken_.push_back(other);
+    }
+    // And over its joints.
+    const BodyId id = dense_to_id_[i];
+    if (id >= body_joints_.size()) continue;
+    for (JointId joint_id : body_joints_[id]) {
+      const JointDesc& desc = joints_[joint_id_to_dense_[joint_id]].desc;
+      const BodyId other_id = desc.body_a == id ? desc.body_b : desc.body_a;
+      if (other_id == kWorldBodyId) continue;
+      const std::uint32_t other = id_to_dense_[other_id];
+      if (records_[other].motion_type != MotionType::dynamic_body || awake_[other]) continue;
       awake_[other] = 1;
       island_stack_.push_back(other);
       if (collecting_woken_) woken_.push_back(other);

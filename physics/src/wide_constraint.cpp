@@ -2,10 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "rotation.h"
 
 namespace tumble::physics {
+
+Softness make_softness(double hertz, double damping_ratio, double h) {
+  Softness s;
+  if (hertz <= 0) return s;
+  const double omega = 2.0 * std::numbers::pi * hertz;
+  const double a1 = 2.0 * damping_ratio + h * omega;
+  const double a2 = h * omega * a1;
+  const double a3 = 1.0 / (1.0 + a2);
+  s.bias_rate = omega / a1;
+  s.mass_scale = a2 * a3;
+  s.impulse_scale = a3;
+  return s;
+}
 namespace {
 
 // An orthonormal basis (t1, t2) of the plane normal to unit n, continuous

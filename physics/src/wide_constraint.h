@@ -79,6 +79,12 @@ struct Softness {
   double impulse_scale = 0;
 };
 
+// The spring of frequency `hertz` with `damping_ratio` over a substep h
+// (b2MakeSoft): with omega = 2 pi f and zeta the damping ratio,
+// a1 = 2 zeta + h omega, a2 = h omega a1, a3 = 1 / (1 + a2); bias rate
+// omega / a1, mass scale a2 a3, impulse scale a3. hertz <= 0: a rigid row.
+Softness make_softness(double hertz, double damping_ratio, double h);
+
 // What build_lane() reads besides its constraint: the step's bodies, their
 // velocities before the solve, and the springs of the soft rows.
 struct WideRowInputs {

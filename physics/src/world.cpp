@@ -228,6 +228,10 @@ bool World::Impl::remove_body(BodyId id) {
   const std::uint32_t index = id_to_dense_[id];
   const std::uint32_t last = static_cast<std::uint32_t>(states_.size() - 1);
 
+  // Its joints go first (waking what they held).
+  if (id < body_joints_.size()) {
+    while (!body_joints_[id].empty()) remove_joint(body_joints_[id].back());
+  }
   destroy_contacts_of(index, true);
   BodyRecord& record = records_[index];
   if (record.proxy != DynamicTree::kNull) {

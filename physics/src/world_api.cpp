@@ -78,4 +78,26 @@ const StepStats& World::last_step_stats() const { return impl_->last_step_stats(
 std::span<const BodyId> World::diverged_bodies() const { return impl_->diverged_bodies(); }
 void World::step(double dt) { impl_->step(dt); }
 
+JointId World::add_joint(const JointDesc& desc) { return impl_->add_joint(desc); }
+JointId World::add_joint_with_id(const JointDesc& desc, JointId id) { return impl_->add_joint_with_id(desc, id); }
+JointId World::next_joint_id() const { return impl_->next_joint_id(); }
+void World::set_next_joint_id(JointId next) { impl_->set_next_joint_id(next); }
+const char* World::joint_desc_error(const JointDesc& desc) const { return impl_->joint_desc_error(desc); }
+void World::set_joint_frames(JointDesc& desc, const Vec3& anchor_a, const Vec3& anchor_b, const Vec3& axis) const {
+  impl_->set_joint_frames(desc, anchor_a, anchor_b, axis);
+}
+bool World::remove_joint(JointId id) { return impl_->remove_joint(id); }
+bool World::contains_joint(JointId id) const { return impl_->contains_joint(id); }
+std::size_t World::joint_count() const { return impl_->joint_count(); }
+JointId World::joint_id_at(std::size_t index) const { return impl_->joint_id_at(index); }
+const JointDesc& World::joint_desc(JointId id) const { return impl_->joint_desc(id); }
+void World::set_joint_motor(JointId id, const JointMotor& motor) { impl_->set_joint_motor(id, motor); }
+JointState World::joint_state(JointId id) const { return impl_->joint_state(id); }
+const JointImpulses& World::joint_impulses(JointId id) const { return impl_->joint_impulses(id); }
+void World::restore_joint_impulses(JointId id, const JointImpulses& impulses) {
+  impl_->restore_joint_impulses(id, impulses);
+}
+std::span<const JointId> World::body_joints(BodyId id) const { return impl_->body_joints(id); }
+std::span<const JointId> World::broken_joints() const { return impl_->broken_joints(); }
+
 }  // namespace tumble::physics

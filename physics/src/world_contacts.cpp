@@ -50,7 +50,7 @@ double lowest_height(const Aabb& box, const Vec3& n, double offset) {
 bool World::Impl::can_collide(std::size_t a, std::size_t b) const {
   if (a == b) return false;
   if (shapes_[a].type == ShapeType::none || shapes_[b].type == ShapeType::none) return false;
-  return is_dynamic(a) || is_dynamic(b);
+  return (is_dynamic(a) || is_dynamic(b)) && !jointed(a, b);
 }
 
 bool World::Impl::has_contact(std::uint32_t a, std::uint32_t b) const {

@@ -16,6 +16,7 @@
 #include "contact.h"
 #include "contact_solver.h"
 #include "dynamic_tree.h"
+#include "joint_solver.h"
 #include "transform.h"
 #include "tumble/physics/body.h"
 #include "tumble/physics/math.h"
@@ -77,6 +78,23 @@ class World::Impl {
   const Vec3& accumulated_torque(BodyId id) const;
   void apply_impulse(BodyId id, const Vec3& impulse);
   void apply_impulse_at_point(BodyId id, const Vec3& impulse, const Vec3& world_point);
+  JointId add_joint(const JointDesc& desc);
+  JointId add_joint_with_id(const JointDesc& desc, JointId id);
+  JointId next_joint_id() const { return static_cast<JointId>(joint_id_to_dense_.size()); }
+  void set_next_joint_id(JointId next);
+  const char* joint_desc_error(const JointDesc& desc) const;
+  void set_joint_frames(JointDesc& desc, const Vec3& anchor_a, const Vec3& anchor_b, const Vec3& axis) const;
+  bool remove_joint(JointId id);
+  bool contains_joint(JointId id) const { return id < joint_id_to_dense_.size() && joint_id_to_dense_[id] != kNoIndex; }
+  std::size_t joint_count() const { return joints_.size(); }
+  JointId joint_id_at(std::size_t index) const { return joints_[index].id; }
+  const JointDesc& joint_desc(JointId id) const { return joint(id).desc; }
+  void set_joint_motor(JointId id, const JointMotor& motor);
+  JointState joint_state(JointId id) const;
+  const JointImpulses& joint_impulses(JointId id) const { return joint(id).impulses; }
+  void restore_joint_impulses(JointId id, const JointImpulses& impulses);
+  std::span<const JointId> body_joints(BodyId id) const;
+  std::span<const JointId> broken_joints() const { return broken_; }
   void wake(BodyId id);
   bool is_awake(BodyId id) const;
   std::size_t awake_body_count() const;
@@ -154,6 +172,23 @@ class World::Impl {
   // beyond `limit` in magnitude or not finite (WorldSettings::max_state_magnitude).
   bool diverged(std::size_t i, double limit) const;
 
+  // Joints (world_joints.cpp).
+  const Joint& joint(JointId id) const;
+  // Dense index of a joint's side, kNoJointBody for the world.
+  std::uint32_t joint_body(BodyId id) const { return id == kWorldBodyId ? kNoJointBody : id_to_dense_[id]; }
+  // Whether a joint that turns off their collision connects the bodies at
+  // dense indices a and b.
+  bool jointed(std::size_t a, std::size_t b) const;
+  // joint_edges_ for this step: each joint with an awake dynamic body
+  // (waking a sleeping body jointed to an awake one first).
+  void collect_joint_edges();
+  // Removes the joints whose force or torque of this step exceeded their
+  // limits, listing them in broken_.
+  void break_joints();
+  // After a joint between bodies a and b stopped keeping them apart: pairs
+  // them if their boxes overlap, as the broadphase would have.
+  void pair_if_overlapping(std::uint32_t a, std::uint32_t b);
+
   // Sleep (island.cpp).
   void update_sleep(double dt);
   void wake_island(std::uint32_t body);
@@ -206,6 +241,16 @@ class World::Impl {
   std::vector<std::uint32_t> updating_;
   std::vector<std::uint8_t> updates_;
   std::uint64_t contact_pass_ = 0;  // counts update_contacts() calls; see ContactLink::updated_pass
+
+  // Joints: dense, in creation order but for swap-removals; the id ->
+  // dense table (kNoIndex once removed; its size is the next id); each
+  // body's joints by BodyId (bodies' ids never move, unlike their dense
+  // indices); this step's joints to solve.
+  std::vector<Joint> joints_;
+  std::vector<std::uint32_t> joint_id_to_dense_;
+  std::vector<std::vector<JointId>> body_joints_;
+  std::vector<JointConstraint> joint_edges_;
+  std::vector<JointId> broken_;  // broken_joints() of the last step
 
   ContactSolver solver_;
   // Helper threads, made by the first set_thread_count above 1; behind a

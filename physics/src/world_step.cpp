@@ -36,6 +36,7 @@ bool beyond(const Vector& v, double limit) {
 void World::Impl::step(double dt) {
   stats_ = StepStats{};
   diverged_.clear();
+  broken_.clear();
   if (!(dt > 0)) {
     for (BodyState& state : states_) {
       state.force.setZero();
@@ -49,6 +50,8 @@ void World::Impl::step(double dt) {
   solve_contacts(dt);
   integrate_positions(dt);
   update_sleep(dt);
+  // Last: the sleep pass reads the step's islands, which index the joints.
+  break_joints();
 }
 
 void World::Impl::integrate_velocities(double dt) {
@@ -93,13 +96,17 @@ void World::Impl::solve_contacts(double dt) {
   solver_settings.damping_ratio = settings_.contact_damping_ratio;
   solver_settings.max_push_speed = settings_.max_push_speed;
   solver_settings.restitution_threshold = settings_.restitution_threshold;
+  solver_settings.joint_hertz = settings_.joint_hertz;
+  solver_settings.joint_damping_ratio = settings_.joint_damping_ratio;
   const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_,
                                    frictions_,      restitutions_,    external_};
-  solver_.prepare(contacts_, links_, active_, bodies, dt, solver_settings);
+  collect_joint_edges();
+  solver_.prepare(contacts_, links_, active_, joints_, joint_edges_, bodies, dt, solver_settings);
   stats_.solved_contacts = solver_.constraint_count();
+  stats_.solved_joints = solver_.joint_count();
   stats_.solved_points = solver_.point_count();
   stats_.islands = solver_.island_count();
-  if (solver_.constraint_count() == 0) return;
+  if (solver_.constraint_count() == 0 && solver_.joint_count() == 0) return;
 
   solver_.solve(velocities_, tasks());
 
@@ -115,7 +122,7 @@ void World::Impl::solve_contacts(double dt) {
 void World::Impl::integrate_positions(double dt) {
   // The solver's correction first: it moves the pose towards the motion of
   // the substeps and never touches the momenta.
-  if (solver_.constraint_count() > 0) {
+  if (solver_.constraint_count() > 0 || solver_.joint_count() > 0) {
     for (std::uint32_t i : solver_.touched_bodies()) {
       if (!is_dynamic(i) || !awake_[i]) continue;
       const SolverVelocity pseudo = solver_.pseudo_velocity(i, velocities_[i]);

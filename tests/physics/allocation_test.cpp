@@ -46,7 +46,7 @@ TEST(AllocationTest, CounterSeesAllocations) {
 
 // The pile: 3 x 3 x 2 unit boxes, a row of spheres and of capsules beside
 // it, an octahedron hull on top, a static box to one side, on the plane
-// y = 0.
+// y = 0, and a chain of four boxes on ball joints hanging from the world.
 struct PileScene {
   World world;
   BodyId kicked = kInvalidBodyId;  // a box of the pile
@@ -83,6 +83,20 @@ struct PileScene {
     wall.motion_type = MotionType::static_body;
     world.add_body(wall);
     ball = world.add_body(sphere_body(Vec3(-4.0, 0.25, -3.0), 0.25, 2.0));
+    // A short chain hanging from the world beside the pile, its end on the
+    // ground, and the kicked box hinged to its neighbour.
+    BodyId previous = kWorldBodyId;
+    for (int i = 0; i < 4; ++i) {
+      const BodyId link = world.add_body(box_body(Vec3(-3.0, 1.75 - 0.5 * i, 0.0), 0.2));
+      JointDesc joint;
+      joint.type = JointType::ball;
+      joint.body_a = previous;
+      joint.body_b = link;
+      const Vec3 anchor(-3.0, 2.0 - 0.5 * i, 0.0);
+      world.set_joint_frames(joint, anchor, anchor, Vec3::UnitX());
+      world.add_joint(joint);
+      previous = link;
+    }
   }
 
   // One cycle: a kick on the middle top box, and the ball lifted to fall on

@@ -48,7 +48,10 @@ enum class JointType : std::uint8_t { ball, hinge, slider, fixed, distance };
 // or m/s) to `target`; position mode drives its position (rad or m) to
 // `target` through a spring of `hertz` with `damping_ratio` (a PD drive).
 // Either way the motor's force stays within max_force (N m for a hinge, N
-// for a slider).
+// for a slider). The position spring's stiffness is (2 pi hertz)^2 times the
+// joint's effective mass along its axis (for a hinge, the bodies'
+// inertias about their centres, as Box2D's), so a body hung on the hinge
+// sags below the target by its load's torque over that stiffness.
 struct JointMotor {
   enum class Mode : std::uint8_t { off, speed, position };
   Mode mode = Mode::off;
@@ -93,7 +96,7 @@ struct JointState {
   // Hinge: angle (rad); slider: position (m); distance: length (m); ball:
   // the angle between the x axes (rad); fixed: 0.
   double position = 0;
-  double speed = 0;         // its rate of change (rad/s or m/s)
+  double speed = 0;            // its rate of change (rad/s or m/s)
   Vec3 force = Vec3::Zero();   // constraint force on body B (N), world frame
   Vec3 torque = Vec3::Zero();  // constraint torque on body B (N m), world frame
   // Impulse the motor applied over the last step (N m s or N s); at most

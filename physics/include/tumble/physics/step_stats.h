@@ -14,6 +14,7 @@ struct StepStats {
   std::size_t manifolds_computed = 0;  // of those, recomputed from the shapes
   std::size_t solved_contacts = 0;     // manifolds with points given to the solver
   std::size_t solved_points = 0;       // their points
+  std::size_t solved_joints = 0;       // joints with an awake dynamic body, solved with the contacts
   std::size_t islands = 0;             // groups of those that share no dynamic body, solved apart
 };
 

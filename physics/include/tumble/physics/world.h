@@ -20,12 +20,15 @@
 //   3. narrowphase (src/collide.h) updates each pair with an awake body, in
 //      parallel; then, in slot order, pairs that no longer overlap are
 //      destroyed and touching a sleeping body wakes its island;
-//   4. sequential impulses in substeps (src/contact_solver.h) change v and w;
+//   4. sequential impulses in substeps (src/contact_solver.h) change v and w,
+//      the joints' rows (src/joint_solver.h) with the contacts';
 //      then P = M v and L = I w;
 //   5. positions and orientations advance from P and L (src/integrator.h), plus
 //      the solver's correction towards its substep motion;
-//   6. islands of bodies connected by touching contacts that have all been
-//      slow for time_to_sleep fall asleep (src/island.cpp).
+//   6. islands of bodies connected by touching contacts and joints that have
+//      all been slow for time_to_sleep fall asleep (src/island.cpp);
+//   7. joints whose force or torque exceeded their break limits are removed
+//      (broken_joints).
 // Step 5 also checks each body it moved against
 // WorldSettings::max_state_magnitude; diverged_bodies() lists those beyond
 // it or no longer finite.

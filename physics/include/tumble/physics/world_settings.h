@@ -33,7 +33,13 @@ struct WorldSettings {
   // relative to the substep whatever the rates. The solver caps it at a
   // quarter of the substep rate.
   double contact_hertz = 0;
-  double contact_damping_ratio = 10;   // of that push
+  double contact_damping_ratio = 10;  // of that push
+  // Frequency (Hz) and damping ratio of the spring that pulls a joint's
+  // bodies back together when it has opened (joint.h); 0 means twice
+  // contact_hertz (Box2D v3's choice), capped at 3/16 of the substep rate
+  // (stiffer, chains folding onto themselves gain energy).
+  double joint_hertz = 0;
+  double joint_damping_ratio = 2;
   double max_push_speed = 3;           // m/s: the push never separates faster
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
   // Every pair gets contact points up to this separation (m), plus the

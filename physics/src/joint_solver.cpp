@@ -1,0 +1,487 @@
+// The rows of each joint type (joint_solver.h): building a joint's row at
+// the start of its group's solve, the warm start, one pass, and storing
+// its impulses.
+#include "joint_solver.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "rotation.h"
+
+namespace tumble::physics {
+namespace {
+
+Vec3 to_vec3(const float (&x)[4]) { return Vec3(x[0], x[1], x[2]); }
+
+void store(float (&to)[4], const Vec3& x) {
+  to[0] = static_cast<float>(x.x());
+  to[1] = static_cast<float>(x.y());
+  to[2] = static_cast<float>(x.z());
+}
+
+// [r]x: the matrix of v -> r x v.
+Mat3 cross_matrix(const Vec3& r) {
+  Mat3 m;
+  m << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  return m;
+}
+
+// The two bodies' velocities during a pass, in double precision.
+struct Velocities {
+  Vec3 linear_a, angular_a, linear_b, angular_b;
+};
+
+Velocities load(const JointRow& row, const SolverBody* slots) {
+  const SolverBody& a = slots[row.slot_a];
+  const SolverBody& b = slots[row.slot_b];
+  return {to_vec3(a.linear), to_vec3(a.angular), to_vec3(b.linear), to_vec3(b.angular)};
+}
+
+// Writes the velocities back; slot 0, the group's slot of zeros, is never
+// written (a body of infinite mass takes no change anyway).
+void save(const JointRow& row, const Velocities& v, SolverBody* slots) {
+  if (row.slot_a != 0) {
+    store(slots[row.slot_a].linear, v.linear_a);
+    store(slots[row.slot_a].angular, v.angular_a);
+  }
+  if (row.slot_b != 0) {
+    store(slots[row.slot_b].linear, v.linear_b);
+    store(slots[row.slot_b].angular, v.angular_b);
+  }
+}
+
+// The joint now: anchors and frames turned by each body's rotation so far,
+// and d, anchor B minus anchor A (joint_solver.h, "Geometry").
+struct Geometry {
+  Vec3 anchor_a, anchor_b;
+  Mat3 frame_a, frame_b;  // columns: the frame's x, y, z axes in the world
+  Vec3 d;
+};
+
+Geometry geometry_now(const JointRow& row, const SolverBody* slots) {
+  const SolverBody& a = slots[row.slot_a];
+  const SolverBody& b = slots[row.slot_b];
+  // The slot of zeros (a static body or the world) has not turned.
+  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(to_vec3(a.rotation));
+  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(to_vec3(b.rotation));
+  Geometry g;
+  g.anchor_a = turn_a * row.anchor_a;
+  g.anchor_b = turn_b * row.anchor_b;
+  if (row.frames) {
+    g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
+    g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
+  }
+  g.d = row.delta_center + (to_vec3(b.displacement) - to_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
+  return g;
+}
+
+// One scalar row: Cdot = linear.(v_b - v_a) + angular_b.w_b - angular_a.w_a.
+struct Jacobian {
+  Vec3 linear = Vec3::Zero();
+  Vec3 angular_a = Vec3::Zero();
+  Vec3 angular_b = Vec3::Zero();
+
+  Jacobian operator-() const { return {-linear, -angular_a, -angular_b}; }
+};
+
+Jacobian angular_row(const Vec3& axis) { return {Vec3::Zero(), axis, axis}; }
+
+// A row along n through the anchors; arm_a is A's lever arm (the anchor,
+// or anchor plus d when n turns with A).
+Jacobian linear_row(const Vec3& n, const Vec3& arm_a, const Vec3& arm_b) { return {n, arm_a.cross(n), arm_b.cross(n)}; }
+
+double velocity(const Jacobian& j, const Velocities& v) {
+  return j.linear.dot(v.linear_b - v.linear_a) + j.angular_b.dot(v.angular_b) - j.angular_a.dot(v.angular_a);
+}
+
+// 1 / (J M^-1 J^T), or 0 when nothing can move along the row.
+double effective_mass(const JointRow& row, const Jacobian& j) {
+  const double k = (row.inverse_mass_a + row.inverse_mass_b) * j.linear.squaredNorm() +
+                   j.angular_a.dot(row.inverse_inertia_a * j.angular_a) +
+                   j.angular_b.dot(row.inverse_inertia_b * j.angular_b);
+  return k > 0 ? 1.0 / k : 0.0;
+}
+
+void apply(const JointRow& row, const Jacobian& j, double lambda, Velocities& v) {
+  v.linear_a -= (row.inverse_mass_a * lambda) * j.linear;
+  v.angular_a -= row.inverse_inertia_a * (lambda * j.angular_a);
+  v.linear_b += (row.inverse_mass_b * lambda) * j.linear;
+  v.angular_b += row.inverse_inertia_b * (lambda * j.angular_b);
+}
+
+// A linear impulse p on B (and -p on A) at the lever arms, plus an angular
+// impulse l on B (and -l on A).
+void apply(const JointRow& row, const Vec3& p, const Vec3& arm_a, const Vec3& arm_b, const Vec3& l, Velocities& v) {
+  v.linear_a -= row.inverse_mass_a * p;
+  v.angular_a -= row.inverse_inertia_a * (arm_a.cross(p) + l);
+  v.linear_b += row.inverse_mass_b * p;
+  v.angular_b += row.inverse_inertia_b * (arm_b.cross(p) + l);
+}
+
+// The position terms of a rigid row: a soft pass corrects C through the
+// joint spring, a relax pass not at all.
+struct Correction {
+  double bias_rate = 0;
+  double mass_scale = 1;
+  double impulse_scale = 0;
+};
+
+Correction correction(const JointStepSettings& settings, bool soft) {
+  if (!soft) return {};
+  return {settings.joint_soft.bias_rate, settings.joint_soft.mass_scale, settings.joint_soft.impulse_scale};
+}
+
+// A one-sided row C >= 0 (a limit), as Box2D v3 solves its limits: while
+// C > 0 the bodies may close the gap within the substep (speculative);
+// while violated it is pushed back softly in a soft pass and held rigidly
+// in a relax pass. The accumulated impulse stays >= 0.
+void solve_one_sided(const JointRow& row, const Jacobian& j, double c, double& accumulated,
+                     const JointStepSettings& settings, bool soft, Velocities& v) {
+  double bias = 0, mass_scale = 1, impulse_scale = 0;
+  if (c > 0) {
+    bias = c * settings.inverse_h;
+  } else if (soft) {
+    bias = settings.joint_soft.bias_rate * c;
+    mass_scale = settings.joint_soft.mass_scale;
+    impulse_scale = settings.joint_soft.impulse_scale;
+  }
+  double lambda = -effective_mass(row, j) * mass_scale * (velocity(j, v) + bias) - impulse_scale * accumulated;
+  const double next = std::max(accumulated + lambda, 0.0);
+  lambda = next - accumulated;
+  accumulated = next;
+  apply(row, j, lambda, v);
+}
+
+// An equality row C = 0 with the joint spring.
+void solve_rigid(const JointRow& row, const Jacobian& j, double c, double& accumulated,
+                 const JointStepSettings& settings, bool soft, Velocities& v) {
+  const Correction k = correction(settings, soft);
+  const double lambda =
+      -effective_mass(row, j) * k.mass_scale * (velocity(j, v) + k.bias_rate * c) - k.impulse_scale * accumulated;
+  accumulated += lambda;
+  apply(row, j, lambda, v);
+}
+
+// A spring row towards C = 0 with its own softness, in every pass.
+void solve_spring(const JointRow& row, const Jacobian& j, double c, const Softness& spring, double& accumulated,
+                  Velocities& v) {
+  const double lambda = -effective_mass(row, j) * spring.mass_scale * (velocity(j, v) + spring.bias_rate * c) -
+                        spring.impulse_scale * accumulated;
+  accumulated += lambda;
+  apply(row, j, lambda, v);
+}
+
+// The motor of a hinge or slider along j, at `position` (rad or m).
+void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j, double position, bool angular,
+                 const JointStepSettings& settings, double& accumulated, Velocities& v) {
+  const double mass = effective_mass(row, j);
+  const double cdot = velocity(j, v);
+  double lambda;
+  if (motor.mode == JointMotor::Mode::speed) {
+    lambda = -mass * (cdot - motor.target);
+  } else {
+    double c = position - motor.target;
+    // The shorter way round for a hinge.
+    if (angular) c = std::remainder(c, 2.0 * std::numbers::pi);
+    const Softness& s = row.motor_soft;
+    lambda = -mass * s.mass_scale * (cdot + s.bias_rate * c) - s.impulse_scale * accumulated;
+  }
+  // The motor's force within max_force: an impulse within max_force h a substep.
+  const double max_impulse = motor.max_force * settings.h;
+  const double next = std::clamp(accumulated + lambda, -max_impulse, max_impulse);
+  lambda = next - accumulated;
+  accumulated = next;
+  apply(row, j, lambda, v);
+}
+
+// The point constraint C = d, three rows as one block (joint_solver.h).
+void solve_point(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
+                 Vec3& accumulated, Velocities& v) {
+  const Vec3 cdot = v.linear_b + v.angular_b.cross(g.anchor_b) - v.linear_a - v.angular_a.cross(g.anchor_a);
+  const Correction c = correction(settings, soft);
+  const Vec3 lambda = -c.mass_scale * (row.point_mass * (cdot + c.bias_rate * g.d)) - c.impulse_scale * accumulated;
+  accumulated += lambda;
+  apply(row, lambda, g.anchor_a, g.anchor_b, Vec3::Zero(), v);
+}
+
+// The rotation lock: frame B turns with frame A (fixed, slider).
+void solve_rotation_lock(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
+                         Vec3& accumulated, Velocities& v) {
+  const Vec3 cdot = v.angular_b - v.angular_a;
+  // The small-angle rotation from frame A to frame B: 2 vec(q_B q_A^-1),
+  // on the short way round.
+  const Quat error = Quat(g.frame_b) * Quat(g.frame_a).conjugate();
+  const Vec3 c = (error.w() < 0 ? -2.0 : 2.0) * error.vec();
+  const Correction s = correction(settings, soft);
+  const Vec3 lambda = -s.mass_scale * (row.lock_mass * (cdot + s.bias_rate * c)) - s.impulse_scale * accumulated;
+  accumulated += lambda;
+  v.angular_a -= row.inverse_inertia_a * lambda;
+  v.angular_b += row.inverse_inertia_b * lambda;
+}
+
+// The hinge's two alignment rows, C_i = a_A.b_B and a_A.c_B, as one 2x2
+// block; their accumulated impulses are accumulated.x() and .y().
+void solve_hinge_alignment(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
+                           Vec3& accumulated, Velocities& v) {
+  const Vec3 axis = g.frame_a.col(0);
+  const Vec3 j1 = g.frame_b.col(1).cross(axis), j2 = g.frame_b.col(2).cross(axis);
+  const Mat3 inverse_inertia = row.inverse_inertia_a + row.inverse_inertia_b;
+  const Vec3 dw = v.angular_b - v.angular_a;
+  Eigen::Matrix2d k;
+  k(0, 0) = j1.dot(inverse_inertia * j1);
+  k(0, 1) = k(1, 0) = j1.dot(inverse_inertia * j2);
+  k(1, 1) = j2.dot(inverse_inertia * j2);
+  const Eigen::Vector2d c(axis.dot(g.frame_b.col(1)), axis.dot(g.frame_b.col(2)));
+  const Eigen::Vector2d cdot(j1.dot(dw), j2.dot(dw));
+  const Correction s = correction(settings, soft);
+  const Eigen::Vector2d previous(accumulated.x(), accumulated.y());
+  const Eigen::Vector2d lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
+  accumulated.x() += lambda.x();
+  accumulated.y() += lambda.y();
+  const Vec3 l = lambda.x() * j1 + lambda.y() * j2;
+  v.angular_a -= row.inverse_inertia_a * l;
+  v.angular_b += row.inverse_inertia_b * l;
+}
+
+// The slider's two rows across the axis, C_i = d.n_i for frame A's y and z
+// axes, as one 2x2 block; accumulated.x() and .y().
+void solve_slider_line(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
+                       Vec3& accumulated, Velocities& v) {
+  const Vec3 arm_a = g.anchor_a + g.d;
+  const Jacobian j1 = linear_row(g.frame_a.col(1), arm_a, g.anchor_b);
+  const Jacobian j2 = linear_row(g.frame_a.col(2), arm_a, g.anchor_b);
+  const double linear_mass = row.inverse_mass_a + row.inverse_mass_b;
+  Eigen::Matrix2d k;
+  k(0, 0) = linear_mass + j1.angular_a.dot(row.inverse_inertia_a * j1.angular_a) +
+            j1.angular_b.dot(row.inverse_inertia_b * j1.angular_b);
+  k(0, 1) = k(1, 0) =
+      j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) + j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
+  k(1, 1) = linear_mass + j2.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
+            j2.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
+  const Eigen::Vector2d c(g.d.dot(g.frame_a.col(1)), g.d.dot(g.frame_a.col(2)));
+  const Eigen::Vector2d cdot(velocity(j1, v), velocity(j2, v));
+  const Correction s = correction(settings, soft);
+  const Eigen::Vector2d previous(accumulated.x(), accumulated.y());
+  const Eigen::Vector2d lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
+  accumulated.x() += lambda.x();
+  accumulated.y() += lambda.y();
+  apply(row, j1, lambda.x(), v);
+  apply(row, j2, lambda.y(), v);
+}
+
+// The hinge angle: frame B's y axis against frame A's, about A's x axis.
+double hinge_angle(const Geometry& g) {
+  const Vec3 ya = g.frame_a.col(1), yb = g.frame_b.col(1);
+  return std::atan2(ya.cross(yb).dot(g.frame_a.col(0)), ya.dot(yb));
+}
+
+// The ball joint's cone: the angle between the frames' x axes and the
+// axis it grows about; false when the axes (nearly) agree.
+bool cone_axis(const Geometry& g, double* angle, Vec3* axis) {
+  const Vec3 n = g.frame_a.col(0).cross(g.frame_b.col(0));
+  const double s = n.norm();
+  *angle = std::atan2(s, g.frame_a.col(0).dot(g.frame_b.col(0)));
+  if (s < 1e-9) return false;
+  *axis = n / s;
+  return true;
+}
+
+// The rows along the joint's free direction (hinge: about a_A; slider:
+// along it): motor, then the limits.
+void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double position, bool angular,
+                 const JointStepSettings& settings, bool soft, Velocities& v) {
+  JointImpulses& impulses = row.impulses;
+  if (desc.motor.mode != JointMotor::Mode::off) {
+    solve_motor(row, desc.motor, j, position, angular, settings, impulses.motor, v);
+  }
+  if (desc.limits_enabled) {
+    solve_one_sided(row, j, position - desc.lower, impulses.lower, settings, soft, v);
+    solve_one_sided(row, -j, desc.upper - position, impulses.upper, settings, soft, v);
+  }
+}
+
+// The net impulse of the axial rows along their direction.
+double axial_impulse(const JointImpulses& impulses) { return impulses.motor + impulses.lower - impulses.upper; }
+
+}  // namespace
+
+void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t body_b, std::uint32_t slot_a,
+                       std::uint32_t slot_b, const ContactSolverBodies& bodies, const JointStepSettings& settings,
+                       JointRow& row) {
+  const JointDesc& desc = joint.desc;
+  row.type = desc.type;
+  row.slot_a = slot_a;
+  row.slot_b = slot_b;
+  // A side on the world has its frame in world coordinates and no motion.
+  auto side = [&](std::uint32_t body, const Vec3& local_anchor, const Quat& local_basis, double& inverse_mass,
+                  Mat3& inverse_inertia, Vec3& anchor, Quat& frame) -> Vec3 {
+    if (body == kNoJointBody) {
+      inverse_mass = 0;
+      inverse_inertia.setZero();
+      anchor = local_anchor;
+      frame = local_basis;
+      return Vec3::Zero();
+    }
+    const Transform& t = bodies.transforms[body];
+    inverse_mass = bodies.inverse_mass[body];
+    inverse_inertia = bodies.inverse_inertia[body];
+    anchor = t.rotation * local_anchor;
+    frame = (Quat(t.rotation) * local_basis).normalized();
+    return t.position;
+  };
+  const Vec3 center_a = side(body_a, desc.local_anchor_a, desc.local_basis_a, row.inverse_mass_a, row.inverse_inertia_a,
+                             row.anchor_a, row.frame_a);
+  const Vec3 center_b = side(body_b, desc.local_anchor_b, desc.local_basis_b, row.inverse_mass_b, row.inverse_inertia_b,
+                             row.anchor_b, row.frame_b);
+  row.delta_center = center_b - center_a;
+  const bool point = desc.type == JointType::ball || desc.type == JointType::hinge || desc.type == JointType::fixed;
+  if (point) {
+    const Mat3 sa = cross_matrix(row.anchor_a), sb = cross_matrix(row.anchor_b);
+    const Mat3 k = (row.inverse_mass_a + row.inverse_mass_b) * Mat3::Identity() - sa * row.inverse_inertia_a * sa -
+                   sb * row.inverse_inertia_b * sb;
+    row.point_mass = k.inverse();
+  }
+  if (desc.type == JointType::fixed || desc.type == JointType::slider) {
+    row.lock_mass = (row.inverse_inertia_a + row.inverse_inertia_b).inverse();
+  }
+  row.frames = !(desc.type == JointType::distance || (desc.type == JointType::ball && std::isinf(desc.cone_limit)));
+  row.motor_soft = make_softness(desc.motor.hertz, desc.motor.damping_ratio, settings.h);
+  row.spring_soft = make_softness(desc.spring_hertz, desc.spring_damping_ratio, settings.h);
+  row.impulses = joint.impulses;
+  row.motor_sum = 0;
+}
+
+void warm_start_joint(const JointRow& row, SolverBody* slots) {
+  const Geometry g = geometry_now(row, slots);
+  Velocities v = load(row, slots);
+  const JointImpulses& impulses = row.impulses;
+  switch (row.type) {
+    case JointType::ball: {
+      double angle;
+      Vec3 axis;
+      const Vec3 cone = row.frames && cone_axis(g, &angle, &axis) ? Vec3(-impulses.lower * axis) : Vec3::Zero();
+      apply(row, impulses.linear, g.anchor_a, g.anchor_b, cone, v);
+      break;
+    }
+    case JointType::hinge: {
+      const Vec3 axis = g.frame_a.col(0);
+      const Vec3 l = impulses.angular.x() * g.frame_b.col(1).cross(axis) +
+                     impulses.angular.y() * g.frame_b.col(2).cross(axis) + axial_impulse(impulses) * axis;
+      apply(row, impulses.linear, g.anchor_a, g.anchor_b, l, v);
+      break;
+    }
+    case JointType::fixed:
+      apply(row, impulses.linear, g.anchor_a, g.anchor_b, impulses.angular, v);
+      break;
+    case JointType::slider: {
+      const Vec3 p = impulses.linear.x() * g.frame_a.col(1) + impulses.linear.y() * g.frame_a.col(2) +
+                     axial_impulse(impulses) * g.frame_a.col(0);
+      apply(row, p, g.anchor_a + g.d, g.anchor_b, impulses.angular, v);
+      break;
+    }
+    case JointType::distance: {
+      const double length = g.d.norm();
+      if (length < 1e-12) break;
+      const Vec3 p = (impulses.linear.x() + impulses.spring + impulses.lower - impulses.upper) / length * g.d;
+      apply(row, p, g.anchor_a, g.anchor_b, Vec3::Zero(), v);
+      break;
+    }
+  }
+  save(row, v, slots);
+}
+
+void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const JointStepSettings& settings, bool soft) {
+  const JointDesc& desc = joint.desc;
+  const Geometry g = geometry_now(row, slots);
+  Velocities v = load(row, slots);
+  JointImpulses& impulses = row.impulses;
+  switch (row.type) {
+    case JointType::ball: {
+      double angle;
+      Vec3 axis;
+      if (std::isfinite(desc.cone_limit) && cone_axis(g, &angle, &axis)) {
+        // C = cone - phi >= 0 with dphi/dt = axis.(w_b - w_a).
+        solve_one_sided(row, angular_row(-axis), desc.cone_limit - angle, impulses.lower, settings, soft, v);
+      }
+      solve_point(row, g, settings, soft, impulses.linear, v);
+      break;
+    }
+    case JointType::hinge:
+      solve_axial(row, desc, angular_row(g.frame_a.col(0)), hinge_angle(g), true, settings, soft, v);
+      solve_hinge_alignment(row, g, settings, soft, impulses.angular, v);
+      solve_point(row, g, settings, soft, impulses.linear, v);
+      break;
+    case JointType::fixed:
+      solve_rotation_lock(row, g, settings, soft, impulses.angular, v);
+      solve_point(row, g, settings, soft, impulses.linear, v);
+      break;
+    case JointType::slider: {
+      const Vec3 axis = g.frame_a.col(0);
+      solve_axial(row, desc, linear_row(axis, g.anchor_a + g.d, g.anchor_b), g.d.dot(axis), false, settings, soft, v);
+      solve_rotation_lock(row, g, settings, soft, impulses.angular, v);
+      solve_slider_line(row, g, settings, soft, impulses.linear, v);
+      break;
+    }
+    case JointType::distance: {
+      const double length = g.d.norm();
+      if (length < 1e-12) break;  // no direction to act along
+      const Jacobian j = linear_row(g.d / length, g.anchor_a, g.anchor_b);
+      if (desc.min_length == desc.max_length) {
+        solve_rigid(row, j, length - desc.length, impulses.linear.x(), settings, soft, v);
+        break;
+      }
+      if (desc.spring_hertz > 0) solve_spring(row, j, length - desc.length, row.spring_soft, impulses.spring, v);
+      solve_one_sided(row, j, length - desc.min_length, impulses.lower, settings, soft, v);
+      solve_one_sided(row, -j, desc.max_length - length, impulses.upper, settings, soft, v);
+      break;
+    }
+  }
+  save(row, v, slots);
+}
+
+void store_joint(const JointRow& row, const SolverBody* slots, const JointStepSettings& settings, Joint& joint) {
+  const Geometry g = geometry_now(row, slots);
+  const JointImpulses& impulses = row.impulses;
+  Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
+  switch (row.type) {
+    case JointType::ball: {
+      double angle;
+      Vec3 axis;
+      linear = impulses.linear;
+      if (row.frames && cone_axis(g, &angle, &axis)) angular = -impulses.lower * axis;
+      break;
+    }
+    case JointType::hinge: {
+      const Vec3 axis = g.frame_a.col(0);
+      linear = impulses.linear;
+      angular = impulses.angular.x() * g.frame_b.col(1).cross(axis) +
+                impulses.angular.y() * g.frame_b.col(2).cross(axis) + axial_impulse(impulses) * axis;
+      break;
+    }
+    case JointType::fixed:
+      linear = impulses.linear;
+      angular = impulses.angular;
+      break;
+    case JointType::slider:
+      linear = impulses.linear.x() * g.frame_a.col(1) + impulses.linear.y() * g.frame_a.col(2) +
+               axial_impulse(impulses) * g.frame_a.col(0);
+      angular = impulses.angular;
+      break;
+    case JointType::distance: {
+      const double length = g.d.norm();
+      if (length >= 1e-12) {
+        linear = (impulses.linear.x() + impulses.spring + impulses.lower - impulses.upper) / length * g.d;
+      }
+      break;
+    }
+  }
+  // The accumulated impulses act in every substep: force = impulse / h.
+  joint.force = linear * settings.inverse_h;
+  joint.torque = angular * settings.inverse_h;
+  joint.motor_impulse = row.motor_sum;
+  joint.impulses = impulses;
+}
+
+}  // namespace tumble::physics
