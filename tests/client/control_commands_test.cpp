@@ -191,7 +191,8 @@ TEST(ControlRequests, SetClearSubscribeAndForce) {
   subscribe.events = true;
   const tumble::v1::Subscribe request = make_subscribe(subscribe);
   EXPECT_EQ(request.fields(), tumble::v1::POSE_FIELDS_POSE);
-  EXPECT_EQ(request.events_size(), 6) << "spawned, removed, asleep, awake, reset, diverged";
+  EXPECT_EQ(request.events_size(), 9)
+      << "spawned, removed, asleep, awake, reset, diverged, joint added, joint removed, joint broken";
   EXPECT_EQ(make_subscribe(SubscribeCommand{}).events_size(), 0);
   EXPECT_EQ(make_subscribe(SubscribeCommand{}).fields(), tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
 
