@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <limits>
 #include <sstream>
+#include <variant>
 
 #include <CLI/CLI.hpp>
 
@@ -26,6 +27,11 @@ std::string check_endpoint(const std::string& text) { return parse_endpoint(text
 
 std::string check_body(const std::string& text) {
   auto ref = client::parse_body_ref(text);
+  return ref ? std::string() : ref.failure().message;
+}
+
+std::string check_joint(const std::string& text) {
+  auto ref = client::parse_joint_ref(text);
   return ref ? std::string() : ref.failure().message;
 }
 
@@ -94,14 +100,167 @@ tumble::v1::PoseEncoding pose_encoding(const std::string& name) {
                              : tumble::v1::POSE_ENCODING_FULL;
 }
 
-// A body reference that check_body accepted.
-tumble::v1::BodyRef body_ref(const std::string& text) { return client::parse_body_ref(text).value(); }
-
 // The value of an option that may be left out.
 template <typename T>
 std::optional<T> given(const CLI::Option* option, const T& value) {
   return option->count() > 0 ? std::optional<T>(value) : std::nullopt;
 }
+
+// A body reference that check_body accepted.
+tumble::v1::BodyRef body_ref(const std::string& text) { return client::parse_body_ref(text).value(); }
+
+// A joint reference that check_joint accepted.
+tumble::v1::JointRef joint_ref(const std::string& text) { return client::parse_joint_ref(text).value(); }
+
+// A name for a new joint: as for a body, digits only would read as an id.
+std::string check_new_joint_name(const std::string& text) {
+  const bool digits_only = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  return digits_only ? "a joint name of digits only would read as an id, got '" + text + "'" : std::string();
+}
+
+// The options of `joint add`, read into a JointAddCommand by command().
+struct JointArguments {
+  std::string name;
+  std::string body_a;
+  std::string body_b;
+  Vector3 anchor{};
+  Vector3 anchor_b{};
+  Vector3 axis{};
+  std::array<double, 2> limits{};
+  double cone = 0;
+  double min_length = 0;
+  double max_length = 0;
+  double length = 0;
+  double break_force = 0;
+  double break_torque = 0;
+  bool collide_connected = false;
+  std::array<bool, 5> types{};        // --ball, --hinge, --slider, --fixed, --distance
+  std::vector<CLI::Option*> options;  // by the order of the fields above, from anchor on
+
+  void add(CLI::App& command) {
+    command.add_option("NAME", name, "Name of the new joint; unique; \"\" for none")
+        ->required()
+        ->check(check_new_joint_name);
+    auto* type = command.add_option_group("type", "What the joint leaves free");
+    type->add_flag("--ball", types[0], "Anchors together, any rotation (optionally within --cone)");
+    type->add_flag("--hinge", types[1], "Anchors together, rotation about --axis only");
+    type->add_flag("--slider", types[2], "No rotation, translation along --axis only");
+    type->add_flag("--fixed", types[3], "The bodies move as one");
+    type->add_flag("--distance", types[4],
+                   "The anchors' distance held (rigid, or within --min-length .. --max-length)");
+    type->require_option(1);
+    command.add_option("BODY_A", body_a, "Body name, id when all digits, or world")->required();
+    command.add_option("BODY_B", body_b, "Body name, or id when all digits")->required()->check(check_body);
+    options = {
+        command
+            .add_option("--anchor", anchor, "The point the bodies share (m), world frame; a distance joint's on BODY_A")
+            ->type_name("X Y Z"),
+        command.add_option("--anchor-b", anchor_b, "A distance joint's point on BODY_B (m), world frame")
+            ->type_name("X Y Z"),
+        command.add_option("--axis", axis, "The hinge's or slider's axis, the ball's cone axis; world frame")
+            ->type_name("X Y Z"),
+        command.add_option("--limits", limits, "Lower and upper angle (rad, hinge) or position (m, slider)")
+            ->type_name("LO HI"),
+        command.add_option("--cone", cone, "A ball joint's largest angle from its axis (rad)")->type_name("C"),
+        command.add_option("--min-length", min_length, "A distance joint's shortest (m)")->type_name("L"),
+        command.add_option("--max-length", max_length, "A distance joint's longest (m)")->type_name("L"),
+        command.add_option("--length", length, "A distance joint's rest length (m)")->type_name("L"),
+        command.add_option("--break-force", break_force, "Force (N) above which the joint breaks")->type_name("F"),
+        command.add_option("--break-torque", break_torque, "Torque (N m) above which the joint breaks")->type_name("T"),
+    };
+    command.add_flag("--collide-connected", collide_connected, "The two bodies still collide with each other");
+  }
+
+  JointAddCommand command() const {
+    JointAddCommand out;
+    out.name = name;
+    constexpr std::array kTypes = {tumble::v1::JOINT_TYPE_BALL, tumble::v1::JOINT_TYPE_HINGE,
+                                   tumble::v1::JOINT_TYPE_SLIDER, tumble::v1::JOINT_TYPE_FIXED,
+                                   tumble::v1::JOINT_TYPE_DISTANCE};
+    for (std::size_t i = 0; i < types.size(); ++i) {
+      if (types[i]) out.type = kTypes[i];
+    }
+    out.body_a = body_a;
+    out.body_b = body_b;
+    out.anchor = given(options[0], anchor);
+    out.anchor_b = given(options[1], anchor_b);
+    out.axis = given(options[2], axis);
+    out.limits = given(options[3], limits);
+    out.cone_limit = given(options[4], cone);
+    out.min_length = given(options[5], min_length);
+    out.max_length = given(options[6], max_length);
+    out.length = given(options[7], length);
+    out.break_force = given(options[8], break_force);
+    out.break_torque = given(options[9], break_torque);
+    out.collide_connected = collide_connected;
+    return out;
+  }
+};
+
+// The options of `motor`.
+struct MotorArguments {
+  std::string joint;
+  double speed = 0;
+  double position = 0;
+  double hertz = 0;
+  double damping_ratio = 0;
+  double max_torque = 0;
+  double max_force = 0;
+  bool off = false;
+  CLI::Option* speed_option = nullptr;
+  CLI::Option* position_option = nullptr;
+  CLI::Option* hertz_option = nullptr;
+  CLI::Option* damping_option = nullptr;
+  CLI::Option* max_torque_option = nullptr;
+  CLI::Option* max_force_option = nullptr;
+
+  void add(CLI::App& command) {
+    command.add_option("JOINT", joint, "Joint name, or id when all digits")->required()->check(check_joint);
+    speed_option = command.add_option("--speed", speed, "Drive the joint at this speed (rad/s or m/s)")->type_name("S");
+    position_option = command.add_option("--position", position, "Drive the joint to this angle (rad) or position (m)")
+                          ->type_name("P")
+                          ->excludes(speed_option);
+    hertz_option = command.add_option("--hertz", hertz, "With --position: the drive's stiffness (Hz), default 2")
+                       ->type_name("F")
+                       ->needs(position_option);
+    damping_option =
+        command.add_option("--damping-ratio", damping_ratio, "With --position: the drive's damping, default 1")
+            ->type_name("Z")
+            ->needs(position_option);
+    max_torque_option =
+        command.add_option("--max-torque", max_torque, "A hinge's motor: the most torque (N m)")->type_name("T");
+    max_force_option = command.add_option("--max-force", max_force, "A slider's motor: the most force (N)")
+                           ->type_name("F")
+                           ->excludes(max_torque_option);
+    command.add_flag("--off", off, "Turn the motor off")
+        ->excludes(speed_option)
+        ->excludes(position_option)
+        ->excludes(max_torque_option)
+        ->excludes(max_force_option);
+  }
+
+  // The command, or a usage error when neither a drive nor --off is given.
+  std::variant<MotorCommand, std::string> command() const {
+    MotorCommand out;
+    out.joint = joint_ref(joint);
+    if (off) return out;
+    if (speed_option->count() == 0 && position_option->count() == 0) {
+      return std::string("motor: give --speed S or --position P (with --max-torque or --max-force), or --off");
+    }
+    if (max_torque_option->count() == 0 && max_force_option->count() == 0) {
+      return std::string("motor: give --max-torque T for a hinge or --max-force F for a slider");
+    }
+    tumble::v1::JointMotorSpec motor;
+    if (speed_option->count() > 0) motor.set_speed(speed);
+    if (position_option->count() > 0) motor.set_position(position);
+    if (hertz_option->count() > 0) motor.set_hertz(hertz);
+    if (damping_option->count() > 0) motor.set_damping_ratio(damping_ratio);
+    if (max_torque_option->count() > 0) motor.set_max_torque(max_torque);
+    if (max_force_option->count() > 0) motor.set_max_force(max_force);
+    out.motor = std::move(motor);
+    return out;
+  }
+};
 
 // Options of `set` and `spawn` that give a body's state.
 struct StateArguments {
@@ -274,7 +433,9 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
   CLI::Option* encoding_option = add_encoding_option(*subscribe, encoding);
   std::string subscribe_stream;
   CLI::Option* subscribe_stream_option = add_stream_option(*subscribe, subscribe_stream);
-  subscribe->add_flag("--events", events, "Also print bodies spawned, removed, falling asleep, waking, and resets");
+  subscribe->add_flag("--events", events,
+                      "Also print bodies spawned, removed, falling asleep, waking, joints added, removed, broken, "
+                      "and resets");
   bool reconnect = false;
   double reconnect_max_wait = std::chrono::duration<double>(kReconnectDefaultMaxWait).count();
   CLI::Option* reconnect_option = subscribe->add_flag(
@@ -369,6 +530,21 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
 
   CLI::App* worlds =
       app.add_subcommand("worlds", "With --nats: list the worlds that answer (world, tick, rate, bodies, streams)");
+
+  CLI::App* joints = app.add_subcommand("joints", "List every joint: id, name, type, bodies, position, speed, motor");
+  CLI::App* joint = app.add_subcommand("joint", "Add or remove a joint");
+  joint->require_subcommand(1);
+  CLI::App* joint_add = joint->add_subcommand("add", "Join two bodies, or a body and the world, with a joint");
+  JointArguments joint_args;
+  joint_args.add(*joint_add);
+  CLI::App* joint_remove = joint->add_subcommand("remove", "Take a joint out of the world");
+  std::string joint_remove_ref;
+  joint_remove->add_option("JOINT", joint_remove_ref, "Joint name, or id when all digits")
+      ->required()
+      ->check(check_joint);
+  CLI::App* motor = app.add_subcommand("motor", "Drive a hinge or slider at a speed or to a position, or stop it");
+  MotorArguments motor_args;
+  motor_args.add(*motor);
 
   ParsedCommandLine parsed;
   try {
@@ -512,6 +688,16 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     invocation.command = StatsCommand{};
   } else if (app.got_subcommand(worlds)) {
     invocation.command = WorldsCommand{};
+  } else if (app.got_subcommand(joints)) {
+    invocation.command = JointsCommand{};
+  } else if (joint->got_subcommand(joint_add)) {
+    invocation.command = joint_args.command();
+  } else if (joint->got_subcommand(joint_remove)) {
+    invocation.command = JointRemoveCommand{joint_ref(joint_remove_ref)};
+  } else if (app.got_subcommand(motor)) {
+    auto command = motor_args.command();
+    if (auto* problem = std::get_if<std::string>(&command)) return usage(*problem);
+    invocation.command = std::get<MotorCommand>(std::move(command));
   } else {
     WatchCommand command;
     for (const std::string& name : watch_bodies) command.bodies.push_back(body_ref(name));

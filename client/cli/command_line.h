@@ -18,6 +18,13 @@
 //     step [N]
 //     tick-rate HZ
 //     watch [--bodies A,B,...] [--rate HZ] [--count N] [--encoding full|quantized|delta]
+//     joints
+//     joint add NAME (--hinge | --ball | --slider | --fixed | --distance) BODY_A BODY_B [--anchor X Y Z]
+//           [--anchor-b X Y Z] [--axis X Y Z] [--limits LO HI] [--cone C] [--min-length L] [--max-length L]
+//           [--length L] [--break-force F] [--break-torque T] [--collide-connected]
+//     joint remove JOINT
+//     motor JOINT ((--speed S | --position P [--hertz F] [--damping-ratio Z]) (--max-torque T | --max-force F)
+//                  | --off)
 //     worlds                                     (NATS only)
 //
 // Over NATS (--nats), subscribe and watch read a stream the server
@@ -175,9 +182,43 @@ struct WatchCommand {
 // tumble worlds: every world answering over NATS.
 struct WorldsCommand {};
 
+// tumble joints
+struct JointsCommand {};
+
+// tumble joint add: the fields of a JointSpec (scene.proto), as typed.
+struct JointAddCommand {
+  std::string name;  // may be empty; never digits only (it would read as an id)
+  tumble::v1::JointType type = tumble::v1::JOINT_TYPE_UNSPECIFIED;
+  std::string body_a;                           // a name, an id, or "world"
+  std::string body_b;                           // a name or an id
+  std::optional<Vector3> anchor;                // m, world frame; a distance joint's point on body A
+  std::optional<Vector3> anchor_b;              // m, a distance joint's point on body B
+  std::optional<Vector3> axis;                  // world direction
+  std::optional<std::array<double, 2>> limits;  // rad or m: lower, upper
+  std::optional<double> cone_limit;             // rad
+  std::optional<double> min_length;             // m
+  std::optional<double> max_length;             // m
+  std::optional<double> length;                 // m
+  std::optional<double> break_force;            // N
+  std::optional<double> break_torque;           // N m
+  bool collide_connected = false;
+};
+
+// tumble joint remove
+struct JointRemoveCommand {
+  tumble::v1::JointRef joint;
+};
+
+// tumble motor: a motor to drive the joint with, or none to turn it off (--off).
+struct MotorCommand {
+  tumble::v1::JointRef joint;
+  std::optional<tumble::v1::JointMotorSpec> motor;
+};
+
 using Command = std::variant<BodiesCommand, ForceCommand, TorqueCommand, ImpulseCommand, SubscribeCommand, SpawnCommand,
                              RemoveCommand, SetCommand, ClearCommand, PauseCommand, ResumeCommand, StepCommand,
-                             ResetCommand, TickRateCommand, StatsCommand, WatchCommand, WorldsCommand>;
+                             ResetCommand, TickRateCommand, StatsCommand, WatchCommand, WorldsCommand, JointsCommand,
+                             JointAddCommand, JointRemoveCommand, MotorCommand>;
 
 // A command to run and the options to run it with.
 struct Invocation {

@@ -147,6 +147,12 @@ std::optional<client::Failure> run(const Invocation& invocation, std::ostream& o
       return run_watch(global, c, out, out_is_terminal);
     }
     std::optional<client::Failure> operator()(const WorldsCommand&) const { return run_worlds(global, out); }
+    std::optional<client::Failure> operator()(const JointsCommand&) const { return run_joints(global, out); }
+    std::optional<client::Failure> operator()(const JointAddCommand& c) const { return run_joint_add(global, c, out); }
+    std::optional<client::Failure> operator()(const JointRemoveCommand& c) const {
+      return run_joint_remove(global, c, out);
+    }
+    std::optional<client::Failure> operator()(const MotorCommand& c) const { return run_motor(global, c, out); }
   };
   return std::visit(Dispatch{global, out, out_is_terminal}, invocation.command);
 }
@@ -368,6 +374,39 @@ std::optional<client::Failure> run_worlds(const GlobalOptions& global, std::ostr
     emit(out, format_world_table(*worlds));
   }
   return std::nullopt;
+}
+
+std::optional<client::Failure> run_joints(const GlobalOptions& global, std::ostream& out) {
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  auto list = connection.list_joints(global.timeout);
+  if (!list) return list.failure();
+  emit(out, global.json ? json_line(joint_list_json(*list)) : format_joint_table(*list));
+  return std::nullopt;
+}
+
+std::optional<client::Failure> run_joint_add(const GlobalOptions& global, const JointAddCommand& command,
+                                             std::ostream& out) {
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.add_joint(make_joint_spec(command), global.timeout), out, format_joint_added);
+}
+
+std::optional<client::Failure> run_joint_remove(const GlobalOptions& global, const JointRemoveCommand& command,
+                                                std::ostream& out) {
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.remove_joint(command.joint, global.timeout), out);
+}
+
+std::optional<client::Failure> run_motor(const GlobalOptions& global, const MotorCommand& command, std::ostream& out) {
+  auto link = open(global);
+  if (!link) return link.failure();
+  client::Transport& connection = **link;
+  return print_ack(global, connection.set_joint_motor(make_set_joint_motor(command), global.timeout), out);
 }
 
 }  // namespace tumble::cli

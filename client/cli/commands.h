@@ -83,4 +83,16 @@ std::optional<client::Failure> run_watch(const GlobalOptions& global, const Watc
 // with --json one object per world per line.
 std::optional<client::Failure> run_worlds(const GlobalOptions& global, std::ostream& out);
 
+// tumble joints: lists every joint, as a table or one JSON object.
+std::optional<client::Failure> run_joints(const GlobalOptions& global, std::ostream& out);
+
+// tumble joint add: one AddJoint, prints the new joint's id and the tick.
+std::optional<client::Failure> run_joint_add(const GlobalOptions& global, const JointAddCommand& command,
+                                             std::ostream& out);
+
+// tumble joint remove, motor: one request each, printing the tick it takes effect.
+std::optional<client::Failure> run_joint_remove(const GlobalOptions& global, const JointRemoveCommand& command,
+                                                std::ostream& out);
+std::optional<client::Failure> run_motor(const GlobalOptions& global, const MotorCommand& command, std::ostream& out);
+
 }  // namespace tumble::cli

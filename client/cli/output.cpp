@@ -57,6 +57,9 @@ Json json_array(const tumble::v1::Vec3& v) { return Json::array({v.x(), v.y(), v
 
 Json json_array(const tumble::v1::Quat& q) { return Json::array({q.w(), q.x(), q.y(), q.z()}); }
 
+// JointInfo.body_a and WorldEvent.joint_body_a for the world.
+constexpr std::uint32_t kWorldBodyId = 0xfffffffe;
+
 std::string display_name(std::uint32_t id, const std::string& name) {
   return name.empty() ? "#" + std::to_string(id) : name;
 }
@@ -202,6 +205,7 @@ std::string format_ack(const tumble::v1::Ack& ack) {
 Json ack_json(const tumble::v1::Ack& ack) {
   Json out = Json::object();
   if (ack.has_body_id()) out["body_id"] = ack.body_id();
+  if (ack.has_joint_id()) out["joint_id"] = ack.joint_id();
   out["applied_tick"] = ack.applied_tick();
   out["request_id"] = ack.request_id();
   if (ack.has_step_ticks_left()) {
@@ -213,6 +217,10 @@ Json ack_json(const tumble::v1::Ack& ack) {
 
 std::string format_spawned(const tumble::v1::Ack& ack) {
   return "spawned body " + std::to_string(ack.body_id()) + " at tick " + std::to_string(ack.applied_tick()) + "\n";
+}
+
+std::string format_joint_added(const tumble::v1::Ack& ack) {
+  return "added joint " + std::to_string(ack.joint_id()) + " at tick " + std::to_string(ack.applied_tick()) + "\n";
 }
 
 std::string format_paused(const tumble::v1::Ack& ack) {
@@ -463,6 +471,12 @@ std::string event_kind_name(tumble::v1::WorldEventKind kind) {
       return "reset";
     case tumble::v1::WORLD_EVENT_BODY_DIVERGED:
       return "diverged";
+    case tumble::v1::WORLD_EVENT_JOINT_ADDED:
+      return "joint-added";
+    case tumble::v1::WORLD_EVENT_JOINT_REMOVED:
+      return "joint-removed";
+    case tumble::v1::WORLD_EVENT_JOINT_BROKEN:
+      return "joint-broken";
     default:
       break;
   }
@@ -471,6 +485,13 @@ std::string event_kind_name(tumble::v1::WorldEventKind kind) {
 
 std::string format_world_event(const tumble::v1::WorldEvent& event) {
   std::string out = "tick " + std::to_string(event.tick()) + "  " + event_kind_name(event.kind());
+  if (event.has_joint_id()) {
+    out += "  " + display_name(event.joint_id(), event.joint_name());
+    if (!event.joint_name().empty()) out += " (#" + std::to_string(event.joint_id()) + ")";
+    const std::string body_a =
+        event.joint_body_a() == kWorldBodyId ? std::string("world") : "#" + std::to_string(event.joint_body_a());
+    return out + "  " + body_a + " - #" + std::to_string(event.body_id()) + "\n";
+  }
   if (event.kind() != tumble::v1::WORLD_EVENT_WORLD_RESET) {
     out += "  " + display_name(event.body_id(), event.body_name());
     if (!event.body_name().empty()) out += " (#" + std::to_string(event.body_id()) + ")";
@@ -482,6 +503,13 @@ Json world_event_json(const tumble::v1::WorldEvent& event) {
   Json out = Json::object();
   out["event"] = event_kind_name(event.kind());
   out["tick"] = event.tick();
+  if (event.has_joint_id()) {
+    out["joint_id"] = event.joint_id();
+    out["joint_name"] = event.joint_name();
+    out["body_a"] = event.joint_body_a() == kWorldBodyId ? Json(nullptr) : Json(event.joint_body_a());
+    out["body_b"] = event.body_id();
+    return out;
+  }
   if (event.kind() != tumble::v1::WORLD_EVENT_WORLD_RESET) {
     out["id"] = event.body_id();
     out["name"] = event.body_name();
@@ -531,6 +559,103 @@ Json body_list_json(const tumble::v1::BodyList& list) {
   Json out = Json::object();
   out["tick"] = list.tick();
   out["bodies"] = std::move(bodies);
+  return out;
+}
+
+std::string joint_type_name(tumble::v1::JointType type) {
+  switch (type) {
+    case tumble::v1::JOINT_TYPE_BALL:
+      return "ball";
+    case tumble::v1::JOINT_TYPE_HINGE:
+      return "hinge";
+    case tumble::v1::JOINT_TYPE_SLIDER:
+      return "slider";
+    case tumble::v1::JOINT_TYPE_FIXED:
+      return "fixed";
+    case tumble::v1::JOINT_TYPE_DISTANCE:
+      return "distance";
+    default:
+      return "";
+  }
+}
+
+std::string format_joint_table(const tumble::v1::JointList& list) {
+  constexpr std::size_t kColumns = 8;
+  using Row = std::array<std::string, kColumns>;
+  constexpr std::array<bool, kColumns> kRightAligned = {true, false, false, false, false, true, true, false};
+
+  std::vector<Row> rows;
+  rows.push_back({"ID", "NAME", "TYPE", "BODY A", "BODY B", "POSITION", "SPEED", "MOTOR"});
+  for (const auto& joint : list.joints()) {
+    const auto& motor = joint.motor();
+    std::string drive = "-";
+    if (motor.target_case() != tumble::v1::JointMotorSpec::TARGET_NOT_SET) {
+      drive = motor.has_speed() ? "speed " + fixed(motor.speed(), 3) : "position " + fixed(motor.position(), 3);
+      drive += " max " + fixed(motor.has_max_torque() ? motor.max_torque() : motor.max_force(), 3);
+    }
+    const std::string type = joint_type_name(joint.type());
+    rows.push_back({std::to_string(joint.id()), display_name(joint.id(), joint.name()), type.empty() ? "-" : type,
+                    display_name(joint.body_a(), joint.body_a_name()),
+                    display_name(joint.body_b(), joint.body_b_name()), fixed(joint.state().position(), 3),
+                    fixed(joint.state().speed(), 3), drive});
+  }
+  return aligned_table(rows, kRightAligned);
+}
+
+Json joint_list_json(const tumble::v1::JointList& list) {
+  Json joints = Json::array();
+  for (const auto& joint : list.joints()) {
+    Json entry = Json::object();
+    entry["id"] = joint.id();
+    entry["name"] = joint.name();
+    const std::string type = joint_type_name(joint.type());
+    entry["type"] = type.empty() ? Json(nullptr) : Json(type);
+    entry["body_a"] = joint.body_a() == kWorldBodyId ? Json(nullptr) : Json(joint.body_a());
+    entry["body_a_name"] = joint.body_a_name();
+    entry["body_b"] = joint.body_b();
+    entry["body_b_name"] = joint.body_b_name();
+    entry["anchor_a"] = json_array(joint.anchor_a());
+    entry["anchor_b"] = json_array(joint.anchor_b());
+    entry["axis"] = json_array(joint.axis());
+    entry["limits"] =
+        joint.has_limits() ? Json::array({joint.limits().lower(), joint.limits().upper()}) : Json(nullptr);
+    entry["cone_limit"] = joint.has_cone_limit() ? Json(joint.cone_limit()) : Json(nullptr);
+    entry["length"] = joint.length();
+    entry["min_length"] = joint.min_length();
+    entry["max_length"] = joint.max_length();
+    entry["spring"] = joint.has_spring()
+                          ? Json({{"hertz", joint.spring().hertz()}, {"damping_ratio", joint.spring().damping_ratio()}})
+                          : Json(nullptr);
+    Json motor = nullptr;
+    const auto& m = joint.motor();
+    if (m.target_case() != tumble::v1::JointMotorSpec::TARGET_NOT_SET) {
+      motor = Json::object();
+      if (m.has_speed()) motor["speed"] = m.speed();
+      if (m.has_position()) {
+        motor["position"] = m.position();
+        motor["hertz"] = m.hertz();
+        motor["damping_ratio"] = m.damping_ratio();
+      }
+      if (m.has_max_torque()) motor["max_torque"] = m.max_torque();
+      if (m.has_max_force()) motor["max_force"] = m.max_force();
+    }
+    entry["motor"] = std::move(motor);
+    entry["break_force"] = joint.has_break_force() ? Json(joint.break_force()) : Json(nullptr);
+    entry["break_torque"] = joint.has_break_torque() ? Json(joint.break_torque()) : Json(nullptr);
+    entry["collide_connected"] = joint.collide_connected();
+    const auto& state = joint.state();
+    Json state_json = Json::object();
+    state_json["position"] = state.position();
+    state_json["speed"] = state.speed();
+    state_json["force"] = json_array(state.force());
+    state_json["torque"] = json_array(state.torque());
+    state_json["motor_impulse"] = state.motor_impulse();
+    entry["state"] = std::move(state_json);
+    joints.push_back(std::move(entry));
+  }
+  Json out = Json::object();
+  out["tick"] = list.tick();
+  out["joints"] = std::move(joints);
   return out;
 }
 

@@ -41,8 +41,8 @@ std::string motion_name(tumble::v1::Motion motion);
 // "applied at tick 1234\n".
 std::string format_ack(const tumble::v1::Ack& ack);
 
-// {"applied_tick": N, "request_id": R}, with "body_id" first when the Ack
-// carries one (SpawnBody), and "step_ended_by" (step_end_word) and
+// {"applied_tick": N, "request_id": R}, with "body_id" or "joint_id" first
+// when the Ack carries one (SpawnBody, AddJoint), and "step_ended_by" (step_end_word) and
 // "step_ticks_left" last when it answers a Step.
 Json ack_json(const tumble::v1::Ack& ack);
 
@@ -51,6 +51,9 @@ const char* step_end_word(tumble::v1::StepEnd end);
 
 // "spawned body 7 at tick 1234\n".
 std::string format_spawned(const tumble::v1::Ack& ack);
+
+// "added joint 3 at tick 1234\n".
+std::string format_joint_added(const tumble::v1::Ack& ack);
 
 // "paused at tick 1234\n".
 std::string format_paused(const tumble::v1::Ack& ack);
@@ -93,14 +96,18 @@ std::string format_world_table(const std::vector<tumble::v1::WorldInfo>& worlds)
 // "fields", "key_interval_s"}], "events_subject", "rpc_subject", "query_subject"}.
 Json world_info_json(const tumble::v1::WorldInfo& info);
 
-// "spawned", "removed", "asleep", "awake", "reset" or "diverged"; "" for an unknown kind.
+// "spawned", "removed", "asleep", "awake", "reset", "diverged",
+// "joint-added", "joint-removed" or "joint-broken"; "" for an unknown kind.
 std::string event_kind_name(tumble::v1::WorldEventKind kind);
 
-// "tick 1234  spawned  crate (#7)\n", or "tick 1234  reset\n".
+// "tick 1234  spawned  crate (#7)\n", or "tick 1234  reset\n", or for a
+// joint "tick 1234  joint-broken  hinge (#3)  #4294967294 - #7\n" (its
+// bodies A and B by id, "world" for the world).
 std::string format_world_event(const tumble::v1::WorldEvent& event);
 
 // {"event": "spawned", "tick": N, "id": 7, "name": "crate"}; a reset has
-// only "event" and "tick".
+// only "event" and "tick"; a joint's {"event", "tick", "joint_id",
+// "joint_name", "body_a", "body_b"} (body_a null for the world).
 Json world_event_json(const tumble::v1::WorldEvent& event);
 
 // An aligned table, one header line and one line per body: id, name,
@@ -111,6 +118,24 @@ std::string format_body_table(const tumble::v1::BodyList& list);
 // "orientation", "linear_velocity", "angular_velocity"}, ...]}; "shape" is
 // null when not set.
 Json body_list_json(const tumble::v1::BodyList& list);
+
+// "ball", "hinge", "slider", "fixed" or "distance"; "" for an unknown type.
+std::string joint_type_name(tumble::v1::JointType type);
+
+// An aligned table, one header line and one line per joint: id, name,
+// type, body A, body B (names, #id when unnamed), position (rad or m),
+// speed and motor ("-", "speed S max M" or "position P max M").
+std::string format_joint_table(const tumble::v1::JointList& list);
+
+// {"tick": N, "joints": [{"id", "name", "type", "body_a", "body_a_name",
+// "body_b", "body_b_name", "anchor_a", "anchor_b", "axis", "limits"
+// ([lower, upper] or null), "cone_limit", "length", "min_length",
+// "max_length", "spring", "motor" (null, or {"speed" or "position",
+// "hertz", "damping_ratio", "max_torque" or "max_force"}), "break_force",
+// "break_torque", "collide_connected", "state": {"position", "speed",
+// "force", "torque", "motor_impulse"}}, ...]}; limits and breaking the
+// joint does not have are null; body_a is null for the world.
+Json joint_list_json(const tumble::v1::JointList& list);
 
 // "tick 1234  t=5.142s\n", then one line per body:
 // "  crate  pos (x, y, z)  quat [w, x, y, z]  v (x, y, z)  w (x, y, z)\n"

@@ -62,9 +62,11 @@ tumble::v1::Subscribe make_subscribe(const SubscribeCommand& command) {
   request.set_fields(command.poses_only ? tumble::v1::POSE_FIELDS_POSE : tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
   request.set_encoding(command.encoding);
   if (command.events) {
-    for (const auto kind : {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED,
-                            tumble::v1::WORLD_EVENT_BODY_ASLEEP, tumble::v1::WORLD_EVENT_BODY_AWAKE,
-                            tumble::v1::WORLD_EVENT_WORLD_RESET, tumble::v1::WORLD_EVENT_BODY_DIVERGED}) {
+    for (const auto kind :
+         {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED,
+          tumble::v1::WORLD_EVENT_BODY_ASLEEP, tumble::v1::WORLD_EVENT_BODY_AWAKE, tumble::v1::WORLD_EVENT_WORLD_RESET,
+          tumble::v1::WORLD_EVENT_BODY_DIVERGED, tumble::v1::WORLD_EVENT_JOINT_ADDED,
+          tumble::v1::WORLD_EVENT_JOINT_REMOVED, tumble::v1::WORLD_EVENT_JOINT_BROKEN}) {
       request.add_events(kind);
     }
   }
@@ -112,6 +114,36 @@ tumble::v1::Subscribe make_watch_subscribe(const WatchCommand& command) {
                           tumble::v1::WORLD_EVENT_BODY_ASLEEP, tumble::v1::WORLD_EVENT_BODY_AWAKE}) {
     request.add_events(kind);
   }
+  return request;
+}
+
+tumble::v1::JointSpec make_joint_spec(const JointAddCommand& command) {
+  tumble::v1::JointSpec spec;
+  spec.set_name(command.name);
+  spec.set_type(command.type);
+  spec.set_body_a(command.body_a);
+  spec.set_body_b(command.body_b);
+  if (command.anchor) set_vec3(*command.anchor, *spec.mutable_anchor());
+  if (command.anchor_b) set_vec3(*command.anchor_b, *spec.mutable_anchor_b());
+  if (command.axis) set_vec3(*command.axis, *spec.mutable_axis());
+  if (command.limits) {
+    spec.mutable_limits()->set_lower((*command.limits)[0]);
+    spec.mutable_limits()->set_upper((*command.limits)[1]);
+  }
+  if (command.cone_limit) spec.set_cone_limit(*command.cone_limit);
+  if (command.min_length) spec.set_min_length(*command.min_length);
+  if (command.max_length) spec.set_max_length(*command.max_length);
+  if (command.length) spec.set_length(*command.length);
+  if (command.break_force) spec.set_break_force(*command.break_force);
+  if (command.break_torque) spec.set_break_torque(*command.break_torque);
+  spec.set_collide_connected(command.collide_connected);
+  return spec;
+}
+
+tumble::v1::SetJointMotor make_set_joint_motor(const MotorCommand& command) {
+  tumble::v1::SetJointMotor request;
+  *request.mutable_joint() = command.joint;
+  if (command.motor) *request.mutable_motor() = *command.motor;
   return request;
 }
 

@@ -35,4 +35,11 @@ tumble::v1::ClearForces make_clear_forces(const ClearCommand& command);
 // and the events that change its table (spawned, removed, asleep, awake).
 tumble::v1::Subscribe make_watch_subscribe(const WatchCommand& command);
 
+// The JointSpec for `tumble joint add`: only the fields given. --anchor is
+// a distance joint's anchor_a.
+tumble::v1::JointSpec make_joint_spec(const JointAddCommand& command);
+
+// The SetJointMotor for `tumble motor`; without a motor it turns it off.
+tumble::v1::SetJointMotor make_set_joint_motor(const MotorCommand& command);
+
 }  // namespace tumble::cli

@@ -16,6 +16,12 @@ tumble::v1::WorldEventKind wire_kind(sim::WorldEventKind kind) {
       return tumble::v1::WORLD_EVENT_WORLD_RESET;
     case sim::WorldEventKind::body_diverged:
       return tumble::v1::WORLD_EVENT_BODY_DIVERGED;
+    case sim::WorldEventKind::joint_added:
+      return tumble::v1::WORLD_EVENT_JOINT_ADDED;
+    case sim::WorldEventKind::joint_removed:
+      return tumble::v1::WORLD_EVENT_JOINT_REMOVED;
+    case sim::WorldEventKind::joint_broken:
+      return tumble::v1::WORLD_EVENT_JOINT_BROKEN;
   }
   return tumble::v1::WORLD_EVENT_KIND_UNSPECIFIED;
 }
@@ -25,7 +31,14 @@ void fill_world_event(const sim::WorldEvent& event, std::uint32_t subscription_i
   out->set_tick(event.tick);
   out->set_kind(wire_kind(event.kind));
   if (event.body != physics::kInvalidBodyId) out->set_body_id(event.body);
-  out->set_body_name(event.name);
+  if (event.joint == physics::kInvalidJointId) {
+    out->set_body_name(event.name);
+    return;
+  }
+  // A joint's event names the joint; its bodies go by id.
+  out->set_joint_id(event.joint);
+  out->set_joint_name(event.name);
+  out->set_joint_body_a(event.body_a);
 }
 
 }  // namespace tumble::frames

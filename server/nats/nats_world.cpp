@@ -287,9 +287,11 @@ void NatsWorld::answer_rpc(NatsRequest request, bool read_only) {
   };
   const ClientMessage::KindCase kind = message.kind_case();
   if (read_only && kind != ClientMessage::kHello && kind != ClientMessage::kListBodies &&
-      kind != ClientMessage::kGetStats) {
+      kind != ClientMessage::kListJoints && kind != ClientMessage::kGetStats) {
     answer(sim::error_reply(message, tumble::v1::PERMISSION_DENIED,
-                            subject + " takes Hello, ListBodies and GetStats, which change nothing; commands go to " +
+                            subject +
+                                " takes Hello, ListBodies, ListJoints and GetStats, which change nothing; commands go "
+                                "to " +
                                 rpc_subject(config_.world) + ", which NATS may let only controllers publish to"));
     return;
   }

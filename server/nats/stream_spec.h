@@ -44,7 +44,7 @@ std::string poses_subject(std::string_view world, std::string_view stream);
 std::string key_subject(std::string_view world, std::string_view stream);
 std::string events_subject(std::string_view world);
 std::string rpc_subject(std::string_view world);
-// Requests that read and change nothing (Hello, ListBodies, GetStats): what an observer may send.
+// Requests that read and change nothing (Hello, ListBodies, ListJoints, GetStats): what an observer may send.
 std::string query_subject(std::string_view world);
 std::string rpc_queue_group(std::string_view world);
 inline constexpr std::string_view kWorldsSubject = "tumble.v1.worlds";

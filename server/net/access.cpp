@@ -39,6 +39,7 @@ bool observer_may(ClientMessage::KindCase kind) {
   switch (kind) {
     case ClientMessage::kHello:
     case ClientMessage::kListBodies:
+    case ClientMessage::kListJoints:
     case ClientMessage::kSubscribe:
     case ClientMessage::kUnsubscribe:
     case ClientMessage::kKeyFrameRequest:
@@ -67,8 +68,8 @@ std::string observer_denial(ClientMessage::KindCase kind) {
   const std::string name =
       field != nullptr && field->message_type() != nullptr ? field->message_type()->name() : "this request";
   return name +
-         " needs the controller token; an observer may only list bodies, subscribe, unsubscribe and "
-         "read stats";
+         " needs the controller token; an observer may only list bodies and joints, subscribe, "
+         "unsubscribe and read stats";
 }
 
 }  // namespace tumble::net

@@ -32,7 +32,7 @@ struct AccessTokens {
 std::optional<tumble::v1::Role> authenticate(const AccessTokens& tokens, std::string_view token);
 
 // True for the requests an observer may send: Hello (answered as a repeat),
-// ListBodies, Subscribe, Unsubscribe, KeyFrameRequest, GetStats, and an envelope with no
+// ListBodies, ListJoints, Subscribe, Unsubscribe, KeyFrameRequest, GetStats, and an envelope with no
 // request at all (answered UNKNOWN_MESSAGE). False for everything else.
 bool observer_may(tumble::v1::ClientMessage::KindCase kind);
 

@@ -176,7 +176,11 @@ void Publisher::deliver(const sim::WorldEvent& event) {
   for (Stream& stream : streams_) {
     const bool names_body =
         !stream.all_bodies && std::binary_search(stream.bodies.begin(), stream.bodies.end(), event.body);
-    const bool concerns_stream = stream.all_bodies || names_body || kind == tumble::v1::WORLD_EVENT_WORLD_RESET;
+    // A joint's event concerns the streams of either of its bodies.
+    const bool names_body_a = event.joint != physics::kInvalidJointId && !stream.all_bodies &&
+                              std::binary_search(stream.bodies.begin(), stream.bodies.end(), event.body_a);
+    const bool concerns_stream =
+        stream.all_bodies || names_body || names_body_a || kind == tumble::v1::WORLD_EVENT_WORLD_RESET;
     if (concerns_stream && (stream.event_kinds & kind_bit(kind)) != 0) {
       tumble::v1::ServerMessage message;
       frames::fill_world_event(event, stream.id, message.mutable_world_event());

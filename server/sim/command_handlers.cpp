@@ -1,6 +1,6 @@
 // The requests the sim thread executes: Simulation::apply() and one
-// handler a request kind. Each edits the world, its loads and directory, or
-// the clock, and answers with the tick at which the change first shows.
+// handler a request kind. Each edits the world, its loads and directories,
+// or the clock, and answers with the tick at which the change first shows.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +13,7 @@
 #include <google/protobuf/io/coded_stream.h>
 
 #include "sim/body_spec.h"
+#include "sim/joint_spec.h"
 #include "sim/log.h"
 #include "sim/log_text.h"
 #include "sim/reply.h"
@@ -35,6 +36,16 @@ void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
 
 ServerMessage unknown_body(const ClientMessage& message, const tumble::v1::BodyRef& ref) {
   return error_reply(message, tumble::v1::UNKNOWN_BODY, "no " + BodyDirectory::describe(ref) + " in the world");
+}
+
+ServerMessage unknown_joint(const ClientMessage& message, const tumble::v1::JointRef& ref) {
+  return error_reply(message, tumble::v1::UNKNOWN_JOINT, "no " + JointDirectory::describe(ref) + " in the world");
+}
+
+// The encoded size of one repeated entry of `size` bytes in a list page:
+// tag, length and message.
+std::size_t page_entry_bytes(std::size_t size) {
+  return 1 + google::protobuf::io::CodedOutputStream::VarintSize64(size) + size;
 }
 
 // The body-frame offset from the centre of mass of a point given in
@@ -90,6 +101,18 @@ void Simulation::apply(Command& command) {
       break;
     case ClientMessage::kSetBodyState:
       reply = set_body_state(message);
+      break;
+    case ClientMessage::kAddJoint:
+      reply = add_joint(message);
+      break;
+    case ClientMessage::kRemoveJoint:
+      reply = remove_joint(message);
+      break;
+    case ClientMessage::kSetJointMotor:
+      reply = set_joint_motor(message);
+      break;
+    case ClientMessage::kListJoints:
+      reply = list_joints(message);
       break;
     case ClientMessage::kClearForces:
       reply = clear_forces(message);
@@ -197,9 +220,8 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
     set_vec3(world_.angular_velocity(id), info.mutable_angular_velocity());
     info.set_motion(wire_motion(world_.motion_type(id)));
     info.set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
-    // The body as the page encodes it: tag, length and message.
-    const std::size_t size = info.ByteSizeLong();
-    const std::size_t encoded = 1 + google::protobuf::io::CodedOutputStream::VarintSize64(size) + size;
+    // The body as the page encodes it.
+    const std::size_t encoded = page_entry_bytes(info.ByteSizeLong());
     if (list->bodies_size() > 0 && page_bytes + encoded > config_.list_page_bytes) {
       list->set_next_start_id(id);
       break;
@@ -253,8 +275,20 @@ ServerMessage Simulation::spawn_body(const Command& command) {
   return reply;
 }
 
+void Simulation::note_joint(WorldEventKind kind, physics::JointId id, std::uint64_t tick) {
+  const JointEntry* entry = joints_.find(id);
+  if (entry == nullptr) return;
+  events_.push_back({tick, kind, entry->body_b, entry->name, id, entry->body_a});
+}
+
 void Simulation::remove_from_world(physics::BodyId id, std::uint64_t tick) {
   const std::string name = directory_.name_of(id);
+  // The world removes the body's joints with it; a copy, as the list goes with them.
+  const std::vector<physics::JointId> joints(world_.body_joints(id).begin(), world_.body_joints(id).end());
+  for (const physics::JointId joint : joints) {
+    note_joint(WorldEventKind::joint_removed, joint, tick);
+    joints_.remove(joint);
+  }
   world_.remove_body(id);
   loads_.remove_body(id);
   {
@@ -290,6 +324,19 @@ void Simulation::remove_diverged() {
   bodies_diverged_ += diverged.size();
 }
 
+void Simulation::remove_broken_joints() {
+  // A copy: the world's list is valid only until it changes.
+  const std::vector<physics::JointId> broken(world_.broken_joints().begin(), world_.broken_joints().end());
+  for (const physics::JointId id : broken) {
+    if (const JointEntry* entry = joints_.find(id)) {
+      sim_log().info("joint {} '{}' broke at tick {}", id, log_text(entry->name), next_tick_);
+    }
+    note_joint(WorldEventKind::joint_broken, id, next_tick_);
+    note_joint(WorldEventKind::joint_removed, id, next_tick_);
+    joints_.remove(id);
+  }
+}
+
 ServerMessage Simulation::remove_body(const ClientMessage& message) {
   const auto& ref = message.remove_body().body();
   const physics::BodyId id = directory_.resolve(ref);
@@ -316,6 +363,146 @@ ServerMessage Simulation::set_body_state(const ClientMessage& message) {
   world_.set_state(id, position, orientation, v, w);
   edited_ = true;
   return ack_reply(message, edit_tick());
+}
+
+ServerMessage Simulation::add_joint(const ClientMessage& message) {
+  const tumble::v1::JointSpec& spec = message.add_joint().joint();
+  if (world_.joint_count() >= config_.max_joints) {
+    return error_reply(message, tumble::v1::RESOURCE_EXHAUSTED,
+                       "the world already holds " + std::to_string(world_.joint_count()) + " joints, the most allowed");
+  }
+  if (world_.next_joint_id() >= kMaxJointIds) {
+    return error_reply(message, tumble::v1::RESOURCE_EXHAUSTED,
+                       "the world has handed out all of the " + std::to_string(kMaxJointIds) + " joint ids it may");
+  }
+  if (!spec.name().empty() && joints_.id_of(spec.name()) != physics::kInvalidJointId) {
+    return error_reply(message, tumble::v1::INVALID_ARGUMENT,
+                       "joint.name: '" + log_text(spec.name()) + "' is used by another joint");
+  }
+  // An unknown body is UNKNOWN_BODY, as for every other request that names one.
+  for (const auto& [ref, field] :
+       {std::pair{&spec.body_a(), "joint.body_a"}, std::pair{&spec.body_b(), "joint.body_b"}}) {
+    if (resolve_joint_body(*ref, world_, directory_) == physics::kInvalidBodyId) {
+      return error_reply(message, tumble::v1::UNKNOWN_BODY,
+                         std::string(field) + ": no body '" + log_text(*ref) + "' in the world");
+    }
+  }
+  physics::JointDesc desc;
+  if (Status status = joint_desc_from_spec(spec, "joint", world_, directory_, &desc); !status.ok()) {
+    return error_reply(message, tumble::v1::INVALID_ARGUMENT, status.message());
+  }
+  const physics::JointId id = world_.add_joint(desc);
+  joints_.add(id, JointEntry{spec.name(), desc.body_a, desc.body_b});
+  const std::uint64_t tick = edit_tick();
+  note_joint(WorldEventKind::joint_added, id, tick);
+  edited_ = true;
+  ServerMessage reply = ack_reply(message, tick);
+  reply.mutable_ack()->set_joint_id(id);
+  return reply;
+}
+
+ServerMessage Simulation::remove_joint(const ClientMessage& message) {
+  const tumble::v1::JointRef& ref = message.remove_joint().joint();
+  const physics::JointId id = joints_.resolve(ref);
+  if (id == physics::kInvalidJointId) return unknown_joint(message, ref);
+  const std::uint64_t tick = edit_tick();
+  note_joint(WorldEventKind::joint_removed, id, tick);
+  joints_.remove(id);
+  world_.remove_joint(id);
+  edited_ = true;
+  return ack_reply(message, tick);
+}
+
+ServerMessage Simulation::set_joint_motor(const ClientMessage& message) {
+  const auto& m = message.set_joint_motor();
+  const physics::JointId id = joints_.resolve(m.joint());
+  if (id == physics::kInvalidJointId) return unknown_joint(message, m.joint());
+  const physics::JointType type = world_.joint_desc(id).type;
+  if (type != physics::JointType::hinge && type != physics::JointType::slider) {
+    return error_reply(message, tumble::v1::INVALID_ARGUMENT,
+                       JointDirectory::describe(m.joint()) + " is a " + joint_type_name(wire_joint_type(type)) +
+                           " joint, which has no motor; only a hinge or a slider has one");
+  }
+  physics::JointMotor motor;  // off
+  if (m.has_motor()) {
+    if (Status status = check_joint_motor(m.motor(), wire_joint_type(type), "motor"); !status.ok()) {
+      return error_reply(message, tumble::v1::INVALID_ARGUMENT, status.message());
+    }
+    motor = physics_motor(m.motor());
+  }
+  world_.set_joint_motor(id, motor);
+  edited_ = true;
+  return ack_reply(message, edit_tick());
+}
+
+ServerMessage Simulation::list_joints(const ClientMessage& message) const {
+  const auto& request = message.list_joints();
+  ServerMessage reply;
+  auto* list = reply.mutable_joint_list();
+  list->set_request_id(message.request_id());
+  list->set_tick(next_tick_);
+  list->set_total_joints(static_cast<std::uint32_t>(world_.joint_count()));
+  const std::uint32_t most =
+      request.max_joints() == 0 ? std::numeric_limits<std::uint32_t>::max() : request.max_joints();
+  // A body's name as a listing shows it; the world's is "world".
+  const auto body_name = [this](physics::BodyId id) {
+    return id == physics::kWorldBodyId ? std::string(kWorldBodyName) : directory_.name_of(id);
+  };
+  // A point or direction of a joint's frame on `body` in the world frame now.
+  const auto world_point = [this](physics::BodyId body, const physics::Vec3& local) -> physics::Vec3 {
+    if (body == physics::kWorldBodyId) return local;
+    return world_.position(body) + world_.orientation(body) * local;
+  };
+  std::size_t page_bytes = 0;
+  const auto& entries = joints_.entries();
+  for (auto it = entries.lower_bound(request.start_id()); it != entries.end(); ++it) {
+    const physics::JointId id = it->first;
+    if (!world_.contains_joint(id)) continue;
+    if (static_cast<std::uint32_t>(list->joints_size()) == most) {
+      list->set_next_start_id(id);
+      break;
+    }
+    const physics::JointDesc& desc = world_.joint_desc(id);
+    tumble::v1::JointInfo info;
+    info.set_id(id);
+    info.set_name(it->second.name);
+    info.set_type(wire_joint_type(desc.type));
+    info.set_body_a(desc.body_a);
+    info.set_body_a_name(body_name(desc.body_a));
+    info.set_body_b(desc.body_b);
+    info.set_body_b_name(body_name(desc.body_b));
+    set_vec3(world_point(desc.body_a, desc.local_anchor_a), info.mutable_anchor_a());
+    set_vec3(world_point(desc.body_b, desc.local_anchor_b), info.mutable_anchor_b());
+    const physics::Quat basis_a = desc.body_a == physics::kWorldBodyId
+                                      ? desc.local_basis_a
+                                      : world_.orientation(desc.body_a) * desc.local_basis_a;
+    set_vec3(basis_a * physics::Vec3::UnitX(), info.mutable_axis());
+    if (desc.limits_enabled) {
+      info.mutable_limits()->set_lower(desc.lower);
+      info.mutable_limits()->set_upper(desc.upper);
+    }
+    if (std::isfinite(desc.cone_limit)) info.set_cone_limit(desc.cone_limit);
+    info.set_length(desc.length);
+    info.set_min_length(desc.min_length);
+    info.set_max_length(desc.max_length);
+    if (desc.spring_hertz > 0) {
+      info.mutable_spring()->set_hertz(desc.spring_hertz);
+      info.mutable_spring()->set_damping_ratio(desc.spring_damping_ratio);
+    }
+    if (desc.motor.mode != physics::JointMotor::Mode::off) wire_motor(desc.motor, desc.type, info.mutable_motor());
+    if (std::isfinite(desc.break_force)) info.set_break_force(desc.break_force);
+    if (std::isfinite(desc.break_torque)) info.set_break_torque(desc.break_torque);
+    info.set_collide_connected(desc.collide_connected);
+    fill_joint_state(world_, id, info.mutable_state());
+    const std::size_t encoded = page_entry_bytes(info.ByteSizeLong());
+    if (list->joints_size() > 0 && page_bytes + encoded > config_.list_page_bytes) {
+      list->set_next_start_id(id);
+      break;
+    }
+    page_bytes += encoded;
+    *list->add_joints() = std::move(info);
+  }
+  return reply;
 }
 
 ServerMessage Simulation::clear_forces(const ClientMessage& message) {
@@ -380,18 +567,30 @@ ServerMessage Simulation::reset(const ClientMessage& message) {
   fresh.set_settings(world_.settings());
   fresh.set_thread_count(world_.thread_count());
   BodyDirectory directory;
+  JointDirectory joints;
   // The scene built once in create(), so it builds again.
-  if (Status status = build_world(&fresh, &directory); !status.ok()) {
+  if (Status status = build_world(&fresh, &directory, &joints); !status.ok()) {
     return error_reply(message, tumble::v1::INTERNAL, "the scene no longer builds: " + status.message());
   }
-  // The scene's bodies get their first ids again; ids handed out since are never reused.
+  // The scene's bodies and joints get their first ids again; ids handed out since are never reused.
   fresh.set_next_body_id(world_.next_body_id());
+  fresh.set_next_joint_id(world_.next_joint_id());
   // A Step ends with the world it stepped, at the tick it reached.
   end_step(tumble::v1::STEP_END_RESET);
   const std::uint64_t tick = edit_tick();
   events_.push_back({tick, WorldEventKind::world_reset, physics::kInvalidBodyId, {}});
-  // Ids below the scene's body count are the scene's bodies in both worlds
-  // (ids are handed out in order and never reused).
+  // Ids below the scene's body (joint) count are the scene's bodies
+  // (joints) in both worlds (ids are handed out in order and never reused).
+  // Joints go before the bodies they join, and come back after them.
+  for (std::size_t i = 0; i < world_.joint_count(); ++i) {
+    const physics::JointId id = world_.joint_id_at(i);
+    if (!fresh.contains_joint(id)) note_joint(WorldEventKind::joint_removed, id, tick);
+  }
+  std::vector<physics::JointId> restored_joints;
+  for (std::size_t i = 0; i < fresh.joint_count(); ++i) {
+    const physics::JointId id = fresh.joint_id_at(i);
+    if (!world_.contains_joint(id)) restored_joints.push_back(id);
+  }
   for (std::size_t i = 0; i < world_.body_count(); ++i) {
     const physics::BodyId id = world_.body_id_at(i);
     if (!fresh.contains(id)) events_.push_back({tick, WorldEventKind::body_removed, id, directory_.name_of(id)});
@@ -403,10 +602,12 @@ ServerMessage Simulation::reset(const ClientMessage& message) {
   }
   world_ = std::move(fresh);
   set_directory(std::move(directory));
+  joints_ = std::move(joints);
   loads_.clear();
   refresh_body_count();
   if (sleep_.watching()) sleep_.start(world_);  // the fresh world's states, without events
   for (physics::BodyId id : restored) note_spawned(id, directory_.name_of(id), tick);
+  for (physics::JointId id : restored_joints) note_joint(WorldEventKind::joint_added, id, tick);
   edited_ = true;
   sim_log().info("reset to the scene at tick {}", next_tick_);
   return ack_reply(message, tick);

@@ -1,9 +1,11 @@
 #include "sim/request_check.h"
 
 #include <cmath>
+#include <tuple>
 
 #include "sim/body_limits.h"
 #include "sim/body_spec.h"
+#include "sim/joint_spec.h"
 #include "sim/string_limits.h"
 
 namespace tumble::sim {
@@ -54,6 +56,35 @@ std::optional<RequestError> check_body_ref(const tumble::v1::BodyRef& ref, bool 
   return std::nullopt;
 }
 
+std::optional<RequestError> check_joint_ref(const tumble::v1::JointRef& ref, bool present) {
+  if (!present || ref.ref_case() == tumble::v1::JointRef::REF_NOT_SET) return invalid("joint is required");
+  if (ref.ref_case() == tumble::v1::JointRef::kName) {
+    if (ref.name().empty()) return invalid("joint name must not be empty");
+    return invalid(check_text_length(ref.name(), "joint.name", kMaxJointNameBytes));
+  }
+  return std::nullopt;
+}
+
+// A motor's numbers finite; whether the joint takes it is the sim's to judge (check_joint_motor).
+std::optional<RequestError> check_motor_numbers(const tumble::v1::JointMotorSpec& motor) {
+  for (const auto& [present, value, field] :
+       {std::tuple{motor.has_speed(), motor.speed(), "motor.speed"},
+        std::tuple{motor.has_position(), motor.position(), "motor.position"},
+        std::tuple{motor.has_hertz(), motor.hertz(), "motor.hertz"},
+        std::tuple{motor.has_damping_ratio(), motor.damping_ratio(), "motor.damping_ratio"},
+        std::tuple{motor.has_max_torque(), motor.max_torque(), "motor.max_torque"},
+        std::tuple{motor.has_max_force(), motor.max_force(), "motor.max_force"}}) {
+    if (present && !within_limits(value)) {
+      return invalid(std::string(field) + " must be a finite number of at most 1e9 in magnitude, got " +
+                     std::to_string(value));
+    }
+  }
+  if (motor.target_case() == tumble::v1::JointMotorSpec::TARGET_NOT_SET) {
+    return invalid("motor needs a speed or a position; leave the motor out to turn it off");
+  }
+  return std::nullopt;
+}
+
 // Duration oneofs are alike in every timed message: seconds or ticks.
 std::optional<RequestError> check_duration(bool has_seconds, double seconds, bool has_ticks, std::uint32_t ticks) {
   if (has_seconds && !(std::isfinite(seconds) && seconds > 0 && seconds <= kMaxDurationSeconds)) {
@@ -77,6 +108,7 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
   switch (message.kind_case()) {
     case ClientMessage::kHello:
     case ClientMessage::kListBodies:
+    case ClientMessage::kListJoints:
     case ClientMessage::kUnsubscribe:
     case ClientMessage::kKeyFrameRequest:
     case ClientMessage::kPause:
@@ -155,6 +187,17 @@ std::optional<RequestError> check_request(const ClientMessage& message) {
         return error;
       }
       return std::nullopt;
+    }
+    case ClientMessage::kAddJoint:
+      // The bodies and what the world makes of the spec are judged when the sim takes the request.
+      if (!message.add_joint().has_joint()) return invalid("joint is required");
+      return invalid(check_joint_spec(message.add_joint().joint(), "joint"));
+    case ClientMessage::kRemoveJoint:
+      return check_joint_ref(message.remove_joint().joint(), message.remove_joint().has_joint());
+    case ClientMessage::kSetJointMotor: {
+      const auto& m = message.set_joint_motor();
+      if ((error = check_joint_ref(m.joint(), m.has_joint()))) return error;
+      return m.has_motor() ? check_motor_numbers(m.motor()) : std::nullopt;
     }
     case ClientMessage::kClearForces: {
       const auto& m = message.clear_forces();

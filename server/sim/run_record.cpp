@@ -18,6 +18,7 @@ void RunRecord::record(std::uint64_t tick, const tumble::v1::ClientMessage& mess
   if (journal_ == nullptr) return;
   switch (message.kind_case()) {
     case tumble::v1::ClientMessage::kListBodies:
+    case tumble::v1::ClientMessage::kListJoints:
     case tumble::v1::ClientMessage::kGetStats:
       return;  // they read the world and change nothing
     default:

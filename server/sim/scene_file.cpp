@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/joint_spec.h"
 #include "sim/log_text.h"
 
 namespace tumble::sim {
@@ -149,18 +150,109 @@ void read_body(const json& value, const std::string& path, tumble::v1::BodySpec*
   }
 }
 
+// A JSON number that must be there, as a joint's fields need.
+double read_required_number(const json& object, const char* field, const std::string& path) {
+  if (!object.contains(field)) fail(path, std::string("missing field '") + field + "'");
+  return read_number(object[field], path + "." + field);
+}
+
+void read_joint_motor(const json& value, const std::string& path, tumble::v1::JointMotorSpec* motor) {
+  require_object(value, path, {"speed", "position", "hertz", "damping_ratio", "max_torque", "max_force"});
+  if (value.contains("speed") == value.contains("position")) fail(path, "expected exactly one of speed, position");
+  if (value.contains("speed")) motor->set_speed(read_number(value["speed"], path + ".speed"));
+  if (value.contains("position")) motor->set_position(read_number(value["position"], path + ".position"));
+  if (value.contains("hertz")) motor->set_hertz(read_number(value["hertz"], path + ".hertz"));
+  if (value.contains("damping_ratio")) {
+    motor->set_damping_ratio(read_number(value["damping_ratio"], path + ".damping_ratio"));
+  }
+  if (value.contains("max_torque")) motor->set_max_torque(read_number(value["max_torque"], path + ".max_torque"));
+  if (value.contains("max_force")) motor->set_max_force(read_number(value["max_force"], path + ".max_force"));
+}
+
+// The joint's structure: fields of the right JSON types, the anchors its
+// type names. What the numbers mean for the type is judged by
+// check_joint_spec and joint_desc_from_spec (sim/joint_spec.h).
+void read_joint(const json& value, const std::string& path, tumble::v1::JointSpec* joint) {
+  require_object(
+      value, path,
+      {"name", "type", "body_a", "body_b", "anchor", "anchor_a", "anchor_b", "axis", "limits", "cone_limit", "length",
+       "min_length", "max_length", "spring", "motor", "break_force", "break_torque", "collide_connected"});
+  if (value.contains("name")) joint->set_name(read_string(value["name"], path + ".name"));
+  if (!value.contains("type")) fail(path, "missing field 'type'");
+  const std::string type = read_string(value["type"], path + ".type");
+  joint->set_type(joint_type_named(type));
+  if (joint->type() == tumble::v1::JOINT_TYPE_UNSPECIFIED) {
+    fail(path + ".type",
+         "unknown joint type '" + log_text(type) + "'; expected ball, hinge, slider, fixed or distance");
+  }
+  if (!value.contains("body_a")) fail(path, "missing field 'body_a'");
+  if (!value.contains("body_b")) fail(path, "missing field 'body_b'");
+  joint->set_body_a(read_string(value["body_a"], path + ".body_a"));
+  joint->set_body_b(read_string(value["body_b"], path + ".body_b"));
+  if (joint->type() == tumble::v1::JOINT_TYPE_DISTANCE) {
+    if (value.contains("anchor")) fail(path + ".anchor", "a distance joint takes anchor_a and anchor_b");
+    if (!value.contains("anchor_a")) fail(path, "missing field 'anchor_a'");
+    if (!value.contains("anchor_b")) fail(path, "missing field 'anchor_b'");
+    read_vec3(value["anchor_a"], path + ".anchor_a", joint->mutable_anchor());
+    read_vec3(value["anchor_b"], path + ".anchor_b", joint->mutable_anchor_b());
+  } else {
+    for (const char* field : {"anchor_a", "anchor_b"}) {
+      if (value.contains(field))
+        fail(path + "." + field, "only a distance joint has two anchors; this one takes anchor");
+    }
+    if (value.contains("anchor")) read_vec3(value["anchor"], path + ".anchor", joint->mutable_anchor());
+  }
+  if (value.contains("axis")) read_vec3(value["axis"], path + ".axis", joint->mutable_axis());
+  if (value.contains("limits")) {
+    const json& limits = value["limits"];
+    const std::string where = path + ".limits";
+    if (!limits.is_array() || limits.size() != 2) fail(where, "expected an array of 2 numbers [lower, upper]");
+    joint->mutable_limits()->set_lower(read_number(limits[0], where + "[0]"));
+    joint->mutable_limits()->set_upper(read_number(limits[1], where + "[1]"));
+  }
+  if (value.contains("cone_limit")) joint->set_cone_limit(read_number(value["cone_limit"], path + ".cone_limit"));
+  if (value.contains("length")) joint->set_length(read_number(value["length"], path + ".length"));
+  if (value.contains("min_length")) joint->set_min_length(read_number(value["min_length"], path + ".min_length"));
+  if (value.contains("max_length")) joint->set_max_length(read_number(value["max_length"], path + ".max_length"));
+  if (value.contains("spring")) {
+    const json& spring = value["spring"];
+    const std::string where = path + ".spring";
+    require_object(spring, where, {"hertz", "damping_ratio"});
+    joint->mutable_spring()->set_hertz(read_required_number(spring, "hertz", where));
+    if (spring.contains("damping_ratio")) {
+      joint->mutable_spring()->set_damping_ratio(read_number(spring["damping_ratio"], where + ".damping_ratio"));
+    }
+  }
+  if (value.contains("motor")) read_joint_motor(value["motor"], path + ".motor", joint->mutable_motor());
+  if (value.contains("break_force")) joint->set_break_force(read_number(value["break_force"], path + ".break_force"));
+  if (value.contains("break_torque")) {
+    joint->set_break_torque(read_number(value["break_torque"], path + ".break_torque"));
+  }
+  if (value.contains("collide_connected")) {
+    joint->set_collide_connected(read_bool(value["collide_connected"], path + ".collide_connected"));
+  }
+}
+
 void read_scene(const json& value, tumble::v1::Scene* scene) {
-  require_object(value, "scene", {"gravity", "bodies"});
+  require_object(value, "scene", {"gravity", "bodies", "joints"});
   if (value.contains("gravity")) {
     read_vec3(value["gravity"], "gravity", scene->mutable_gravity());
   } else {
     scene->mutable_gravity()->set_y(-9.81);
   }
-  if (!value.contains("bodies")) return;
-  const json& bodies = value["bodies"];
-  if (!bodies.is_array()) fail("bodies", "expected an array of bodies");
-  for (std::size_t i = 0; i < bodies.size(); ++i) {
-    read_body(bodies[i], "bodies[" + std::to_string(i) + "]", scene->add_bodies());
+  if (value.contains("bodies")) {
+    const json& bodies = value["bodies"];
+    if (!bodies.is_array()) fail("bodies", "expected an array of bodies");
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      read_body(bodies[i], "bodies[" + std::to_string(i) + "]", scene->add_bodies());
+    }
+  }
+  if (value.contains("joints")) {
+    const json& joints = value["joints"];
+    if (!joints.is_array()) fail("joints", "expected an array of joints");
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+      read_joint(joints[i], "joints[" + std::to_string(i) + "]", scene->add_joints());
+    }
   }
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "sim/body_spec.h"
+#include "sim/joint_spec.h"
 #include "sim/log.h"
 #include "sim/log_text.h"
 #include "sim/reply.h"
@@ -28,9 +29,13 @@ Status Simulation::create(const tumble::v1::Scene& scene, const SimConfig& confi
     return Status::error("the scene has " + std::to_string(scene.bodies_size()) + " bodies, more than the " +
                          std::to_string(config.max_bodies) + " allowed");
   }
+  if (static_cast<std::uint64_t>(scene.joints_size()) > config.max_joints) {
+    return Status::error("the scene has " + std::to_string(scene.joints_size()) + " joints, more than the " +
+                         std::to_string(config.max_joints) + " allowed");
+  }
   std::unique_ptr<Simulation> sim(new Simulation(scene, config));
   BodyDirectory directory;
-  if (Status status = sim->build_world(&sim->world_, &directory); !status.ok()) return status;
+  if (Status status = sim->build_world(&sim->world_, &directory, &sim->joints_); !status.ok()) return status;
   sim->set_directory(std::move(directory));
   sim->refresh_body_count();
   *out = std::move(sim);
@@ -50,11 +55,17 @@ Status Simulation::create_from_state(const tumble::v1::WorldState& state, const 
     return Status::error("the saved world has " + std::to_string(state.bodies_size()) + " bodies, more than the " +
                          std::to_string(config.max_bodies) + " allowed");
   }
+  if (static_cast<std::uint64_t>(state.joints_size()) > config.max_joints) {
+    return Status::error("the saved world has " + std::to_string(state.joints_size()) + " joints, more than the " +
+                         std::to_string(config.max_joints) + " allowed");
+  }
   SimConfig resumed = config;
   resumed.tick_rate_hz = state.tick_rate_hz();
   std::unique_ptr<Simulation> sim(new Simulation(restorable_scene(state.scene()), resumed));
   BodyDirectory directory;
-  if (Status status = restore_world(state, &sim->world_, &directory, &sim->loads_); !status.ok()) return status;
+  if (Status status = restore_world(state, &sim->world_, &directory, &sim->joints_, &sim->loads_); !status.ok()) {
+    return status;
+  }
   sim->set_directory(std::move(directory));
   sim->refresh_body_count();
   // The clock goes on from the saved tick; sim time is counted from there.
@@ -76,7 +87,7 @@ void Simulation::capture(tumble::v1::WorldState* state) const {
 
 void Simulation::capture_without_scene(tumble::v1::WorldState* state) const {
   state->Clear();
-  if (const std::size_t left_out = capture_world(world_, directory_, loads_, state); left_out > 0) {
+  if (const std::size_t left_out = capture_world(world_, directory_, joints_, loads_, state); left_out > 0) {
     sim_log().error("left {} bodies out of the saved world at tick {}: their states are not finite or out of range",
                     left_out, next_tick_);
   }
@@ -108,7 +119,7 @@ Simulation::Simulation(const tumble::v1::Scene& scene, const SimConfig& config)
 
 Simulation::~Simulation() { stop(); }
 
-Status Simulation::build_world(physics::World* world, BodyDirectory* directory) const {
+Status Simulation::build_world(physics::World* world, BodyDirectory* directory, JointDirectory* joints) const {
   const tumble::v1::Vec3& g = scene_->gravity();
   world->set_gravity(physics::Vec3(g.x(), g.y(), g.z()));
   for (int i = 0; i < scene_->bodies_size(); ++i) {
@@ -121,6 +132,23 @@ Status Simulation::build_world(physics::World* world, BodyDirectory* directory) 
     }
     const physics::BodyId id = world->add_body(desc);
     directory->add(id, BodyEntry{spec.name(), spec.shape(), world->mass(id)});
+  }
+  // Joints after every body, so that one may join bodies listed after it;
+  // their points and axes are read at the bodies' scene poses.
+  for (int i = 0; i < scene_->joints_size(); ++i) {
+    const tumble::v1::JointSpec& spec = scene_->joints(i);
+    const std::string where = "joints[" + std::to_string(i) + "]";
+    // A named joint is named at the end of its message too, as a person looks for it.
+    const std::string named = spec.name().empty() ? "" : " (joint '" + log_text(spec.name()) + "')";
+    physics::JointDesc desc;
+    if (Status status = joint_desc_from_spec(spec, where, *world, *directory, &desc); !status.ok()) {
+      return Status::error(status.message() + named);
+    }
+    if (!spec.name().empty() && joints->id_of(spec.name()) != physics::kInvalidJointId) {
+      return Status::error(where + ".name: '" + log_text(spec.name()) + "' is used by another joint");
+    }
+    const physics::JointId id = world->add_joint(desc);
+    joints->add(id, JointEntry{spec.name(), desc.body_a, desc.body_b});
   }
   return {};
 }
@@ -258,6 +286,7 @@ void Simulation::advance() {
   ++next_tick_;
   tick_.store(next_tick_, std::memory_order_relaxed);
   sim_time_.store(time_of(next_tick_), std::memory_order_relaxed);
+  if (!world_.broken_joints().empty()) remove_broken_joints();
   if (!world_.diverged_bodies().empty()) remove_diverged();
 
   if (sleep_events_sources_.load(std::memory_order_relaxed) == 0) {

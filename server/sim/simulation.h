@@ -52,6 +52,7 @@
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
 #include "sim/command.h"
+#include "sim/joint_directory.h"
 #include "sim/journal.h"
 #include "sim/publish_interest.h"
 #include "sim/publish_plan.h"
@@ -72,6 +73,7 @@ struct SimConfig {
   double tick_rate_hz = 240;             // kMinTickRateHz to kMaxTickRateHz (request_check.h)
   std::uint32_t max_catch_up_ticks = 8;  // late ticks run back to back before the rest are skipped
   std::uint32_t max_bodies = 100000;     // SpawnBody beyond it is RESOURCE_EXHAUSTED
+  std::uint32_t max_joints = 100000;     // AddJoint beyond it is RESOURCE_EXHAUSTED
   // The most bytes of BodyInfo one BodyList page holds (at least one body
   // always goes in): a reply a client can take in one read of its limit.
   std::size_t list_page_bytes = std::size_t{1} << 20;
@@ -96,10 +98,11 @@ inline constexpr PublishSource kMaxPublishSources = 64;
 class Simulation {
  public:
   // Builds the world of `scene`, which it keeps for Reset; fails with a
-  // message naming the body and field when the scene does not describe a
-  // valid world or holds more than max_bodies bodies.
+  // message naming the body or joint and field when the scene does not
+  // describe a valid world or holds more than max_bodies bodies or
+  // max_joints joints.
   static Status create(const tumble::v1::Scene& scene, const SimConfig& config, std::unique_ptr<Simulation>* out);
-  // Resumes a saved world exactly (world_state.h): bodies, loads, tick, sim
+  // Resumes a saved world exactly (world_state.h): bodies, joints, loads, tick, sim
   // time, tick rate (config.tick_rate_hz is ignored) and paused; Reset goes
   // back to the scene saved with it.
   static Status create_from_state(const tumble::v1::WorldState& state, const SimConfig& config,
@@ -197,8 +200,8 @@ class Simulation {
 
   Simulation(const tumble::v1::Scene& scene, const SimConfig& config);
 
-  // Fills an empty world and directory with the bodies of scene_.
-  Status build_world(physics::World* world, BodyDirectory* directory) const;
+  // Fills an empty world and directories with the bodies and joints of scene_.
+  Status build_world(physics::World* world, BodyDirectory* directory, JointDirectory* joints) const;
   // capture() but the scene.
   void capture_without_scene(tumble::v1::WorldState* state) const;
 
@@ -231,8 +234,14 @@ class Simulation {
   void apply(Command& command);
   void note_spawned(physics::BodyId id, const std::string& name, std::uint64_t tick);
   // Takes a body out of the world, its loads and the directory, with a
-  // body_removed event of `tick`.
+  // body_removed event of `tick`, after a joint_removed event for each of
+  // its joints.
   void remove_from_world(physics::BodyId id, std::uint64_t tick);
+  // A joint event of `tick` for the joint `id` of the joint directory.
+  void note_joint(WorldEventKind kind, physics::JointId id, std::uint64_t tick);
+  // After a step: the joints it broke (physics::World::broken_joints), with
+  // a joint_broken and a joint_removed event each, out of the directory.
+  void remove_broken_joints();
   // After a step: removes each body the step left diverged
   // (physics::World::diverged_bodies), with a body_diverged event, a log
   // line and a count, so no non-finite value stays in the world or reaches
@@ -249,6 +258,10 @@ class Simulation {
   ServerMessage spawn_body(const Command& command);
   ServerMessage remove_body(const ClientMessage& message);
   ServerMessage set_body_state(const ClientMessage& message);
+  ServerMessage add_joint(const ClientMessage& message);
+  ServerMessage remove_joint(const ClientMessage& message);
+  ServerMessage set_joint_motor(const ClientMessage& message);
+  ServerMessage list_joints(const ClientMessage& message) const;
   ServerMessage clear_forces(const ClientMessage& message);
   ServerMessage pause(const ClientMessage& message);
   ServerMessage resume(const ClientMessage& message);
@@ -271,6 +284,7 @@ class Simulation {
   physics::World world_;
   BodyLoads loads_;
   BodyDirectory directory_;  // written under directory_mutex_, read freely on the sim thread
+  JointDirectory joints_;    // the sim thread's only
   std::vector<Command> draining_;
   PublishPlan plan_;                   // holds the sim thread's copy of published_interest_
   std::uint64_t next_tick_ = 0;        // sim-thread copy of tick_

@@ -7,6 +7,7 @@
 
 #include "sim/body_limits.h"
 #include "sim/body_spec.h"
+#include "sim/joint_spec.h"
 #include "sim/log.h"
 #include "sim/log_text.h"
 #include "sim/string_limits.h"
@@ -36,6 +37,132 @@ const tumble::v1::BodySpec& allowed_name(const tumble::v1::SavedBody& saved, con
   *renamed = saved.spec();
   renamed->clear_name();
   return *renamed;
+}
+
+void set_quat(const physics::Quat& q, tumble::v1::Quat* out) {
+  out->set_w(q.w());
+  out->set_x(q.x());
+  out->set_y(q.y());
+  out->set_z(q.z());
+}
+
+bool finite(const tumble::v1::Quat& q) {
+  return std::isfinite(q.w()) && std::isfinite(q.x()) && std::isfinite(q.y()) && std::isfinite(q.z());
+}
+
+// A saved joint's frame rotation: finite and of unit length (it is put back
+// as saved, so only a damaged file fails this).
+bool unit(const tumble::v1::Quat& q) {
+  return finite(q) && std::abs(std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z()) - 1.0) <= 1e-6;
+}
+
+physics::Quat to_quat(const tumble::v1::Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
+
+void save_joint(const physics::World& world, const JointDirectory& joints, physics::JointId id,
+                tumble::v1::SavedJoint* saved) {
+  const physics::JointDesc& desc = world.joint_desc(id);
+  saved->set_id(id);
+  if (const JointEntry* entry = joints.find(id)) saved->set_name(entry->name);
+  saved->set_type(wire_joint_type(desc.type));
+  saved->set_body_a(desc.body_a);
+  saved->set_body_b(desc.body_b);
+  set_vec3(desc.local_anchor_a, saved->mutable_local_anchor_a());
+  set_vec3(desc.local_anchor_b, saved->mutable_local_anchor_b());
+  set_quat(desc.local_basis_a, saved->mutable_local_basis_a());
+  set_quat(desc.local_basis_b, saved->mutable_local_basis_b());
+  saved->set_limits_enabled(desc.limits_enabled);
+  saved->set_lower(desc.lower);
+  saved->set_upper(desc.upper);
+  saved->set_cone_limit(desc.cone_limit);
+  saved->set_length(desc.length);
+  saved->set_min_length(desc.min_length);
+  saved->set_max_length(desc.max_length);
+  saved->set_spring_hertz(desc.spring_hertz);
+  saved->set_spring_damping_ratio(desc.spring_damping_ratio);
+  saved->set_motor_mode(static_cast<std::uint32_t>(desc.motor.mode));
+  saved->set_motor_target(desc.motor.target);
+  saved->set_motor_max_force(desc.motor.max_force);
+  saved->set_motor_hertz(desc.motor.hertz);
+  saved->set_motor_damping_ratio(desc.motor.damping_ratio);
+  saved->set_break_force(desc.break_force);
+  saved->set_break_torque(desc.break_torque);
+  saved->set_collide_connected(desc.collide_connected);
+  const physics::JointImpulses& impulses = world.joint_impulses(id);
+  set_vec3(impulses.linear, saved->mutable_linear_impulse());
+  set_vec3(impulses.angular, saved->mutable_angular_impulse());
+  saved->set_lower_impulse(impulses.lower);
+  saved->set_upper_impulse(impulses.upper);
+  saved->set_motor_impulse(impulses.motor);
+  saved->set_spring_impulse(impulses.spring);
+}
+
+// The saved joint as the engine's desc and impulses, checked as far as a
+// file needs beyond World::joint_desc_error: a known type and motor mode,
+// unit frame rotations, finite impulses. `where` names it, e.g. "joints[1]".
+Status joint_from_saved(const tumble::v1::SavedJoint& saved, const std::string& where, physics::JointDesc* desc,
+                        physics::JointImpulses* impulses) {
+  switch (saved.type()) {
+    case tumble::v1::JOINT_TYPE_BALL:
+      desc->type = physics::JointType::ball;
+      break;
+    case tumble::v1::JOINT_TYPE_HINGE:
+      desc->type = physics::JointType::hinge;
+      break;
+    case tumble::v1::JOINT_TYPE_SLIDER:
+      desc->type = physics::JointType::slider;
+      break;
+    case tumble::v1::JOINT_TYPE_FIXED:
+      desc->type = physics::JointType::fixed;
+      break;
+    case tumble::v1::JOINT_TYPE_DISTANCE:
+      desc->type = physics::JointType::distance;
+      break;
+    default:
+      return Status::error(where + ".type: " + std::to_string(saved.type()) + " is no type of joint");
+  }
+  if (saved.motor_mode() > static_cast<std::uint32_t>(physics::JointMotor::Mode::position)) {
+    return Status::error(where + ".motor_mode: " + std::to_string(saved.motor_mode()) + " is no motor mode");
+  }
+  if (!finite(saved.local_anchor_a()) || !finite(saved.local_anchor_b())) {
+    return Status::error(where + ": its anchors must be finite");
+  }
+  if (!unit(saved.local_basis_a()) || !unit(saved.local_basis_b())) {
+    return Status::error(where + ": its frames' rotations must be unit quaternions");
+  }
+  desc->body_a = saved.body_a();
+  desc->body_b = saved.body_b();
+  desc->local_anchor_a = to_vec3(saved.local_anchor_a());
+  desc->local_anchor_b = to_vec3(saved.local_anchor_b());
+  desc->local_basis_a = to_quat(saved.local_basis_a());
+  desc->local_basis_b = to_quat(saved.local_basis_b());
+  desc->limits_enabled = saved.limits_enabled();
+  desc->lower = saved.lower();
+  desc->upper = saved.upper();
+  desc->cone_limit = saved.cone_limit();
+  desc->length = saved.length();
+  desc->min_length = saved.min_length();
+  desc->max_length = saved.max_length();
+  desc->spring_hertz = saved.spring_hertz();
+  desc->spring_damping_ratio = saved.spring_damping_ratio();
+  desc->motor.mode = static_cast<physics::JointMotor::Mode>(saved.motor_mode());
+  desc->motor.target = saved.motor_target();
+  desc->motor.max_force = saved.motor_max_force();
+  desc->motor.hertz = saved.motor_hertz();
+  desc->motor.damping_ratio = saved.motor_damping_ratio();
+  desc->break_force = saved.break_force();
+  desc->break_torque = saved.break_torque();
+  desc->collide_connected = saved.collide_connected();
+  const bool finite_impulses = finite(saved.linear_impulse()) && finite(saved.angular_impulse()) &&
+                               std::isfinite(saved.lower_impulse()) && std::isfinite(saved.upper_impulse()) &&
+                               std::isfinite(saved.motor_impulse()) && std::isfinite(saved.spring_impulse());
+  if (!finite_impulses) return Status::error(where + ": its impulses must be finite");
+  impulses->linear = to_vec3(saved.linear_impulse());
+  impulses->angular = to_vec3(saved.angular_impulse());
+  impulses->lower = saved.lower_impulse();
+  impulses->upper = saved.upper_impulse();
+  impulses->motor = saved.motor_impulse();
+  impulses->spring = saved.spring_impulse();
+  return {};
 }
 
 bool within_magnitude(const physics::Vec3& v) {
@@ -77,8 +204,8 @@ void body_spec_now(const physics::World& world, const BodyDirectory& directory, 
   set_vec3(world.angular_velocity(id), spec.mutable_angular_velocity());
 }
 
-std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
-                          tumble::v1::WorldState* state) {
+std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const JointDirectory& joints,
+                          const BodyLoads& loads, tumble::v1::WorldState* state) {
   state->set_format_version(kWorldStateFormat);
   set_vec3(world.gravity(), state->mutable_gravity());
   state->set_next_body_id(world.next_body_id());
@@ -109,11 +236,22 @@ std::size_t capture_world(const physics::World& world, const BodyDirectory& dire
     set_vec3(load.torque, saved->mutable_torque());
     saved->set_ticks_left(load.ticks_left);
   }
+  state->set_next_joint_id(world.next_joint_id());
+  state->clear_joints();
+  const auto is_left_out = [&](physics::BodyId id) {
+    return std::find(left_out.begin(), left_out.end(), id) != left_out.end();
+  };
+  for (std::size_t i = 0; i < world.joint_count(); ++i) {
+    const physics::JointId id = world.joint_id_at(i);
+    const physics::JointDesc& desc = world.joint_desc(id);
+    if (is_left_out(desc.body_a) || is_left_out(desc.body_b)) continue;
+    save_joint(world, joints, id, state->add_joints());
+  }
   return left_out.size();
 }
 
 Status restore_world(const tumble::v1::WorldState& state, physics::World* world, BodyDirectory* directory,
-                     BodyLoads* loads) {
+                     JointDirectory* joints, BodyLoads* loads) {
   if (state.format_version() != kWorldStateFormat) {
     return Status::error("format_version: expected " + std::to_string(kWorldStateFormat) + ", got " +
                          std::to_string(state.format_version()));
@@ -173,6 +311,38 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
     directory->add(saved.id(), BodyEntry{spec.name(), spec.shape(), world->mass(saved.id())});
   }
   world->set_next_body_id(state.next_body_id());
+
+  if (state.next_joint_id() > kMaxJointIds) {
+    return Status::error("next_joint_id: " + std::to_string(state.next_joint_id()) + " is more than the " +
+                         std::to_string(kMaxJointIds) + " ids a world may hand out");
+  }
+  for (int i = 0; i < state.joints_size(); ++i) {
+    const tumble::v1::SavedJoint& saved = state.joints(i);
+    const std::string where = "joints[" + std::to_string(i) + "]";
+    if (saved.id() >= state.next_joint_id()) {
+      return Status::error(where + ".id: " + std::to_string(saved.id()) + " is not below next_joint_id");
+    }
+    if (world->contains_joint(saved.id())) {
+      return Status::error(where + ".id: " + std::to_string(saved.id()) + " is used by another joint");
+    }
+    if (Status status = check_joint_name(saved.name(), where + ".name"); !status.ok()) return status;
+    if (!saved.name().empty() && joints->id_of(saved.name()) != physics::kInvalidJointId) {
+      return Status::error(where + ".name: '" + log_text(saved.name()) + "' is used by another joint");
+    }
+    if (saved.body_a() != physics::kWorldBodyId && !world->contains(saved.body_a())) {
+      return Status::error(where + ".body_a: no body " + std::to_string(saved.body_a()));
+    }
+    if (!world->contains(saved.body_b()))
+      return Status::error(where + ".body_b: no body " + std::to_string(saved.body_b()));
+    physics::JointDesc desc;
+    physics::JointImpulses impulses;
+    if (Status status = joint_from_saved(saved, where, &desc, &impulses); !status.ok()) return status;
+    if (const char* error = world->joint_desc_error(desc)) return Status::error(where + "." + error);
+    world->add_joint_with_id(desc, saved.id());
+    world->restore_joint_impulses(saved.id(), impulses);
+    joints->add(saved.id(), JointEntry{saved.name(), desc.body_a, desc.body_b});
+  }
+  world->set_next_joint_id(state.next_joint_id());
 
   for (int i = 0; i < state.loads_size(); ++i) {
     const tumble::v1::SavedLoad& saved = state.loads(i);

@@ -5,7 +5,9 @@
 // The round trip is exact: positions, orientations and momenta are saved as
 // the doubles they are and put back without arithmetic, bodies keep their
 // ids and their internal order (which the step's sums depend on), loads
-// keep theirs. Only the contact cache is not saved: the first step after a
+// keep theirs, and joints keep their ids, order, frames (in body
+// coordinates, as made) and the solver's warm-start impulses
+// (physics::JointImpulses). Only the contact cache is not saved: the first step after a
 // restore recomputes contacts and starts their impulses from zero, so a
 // resting stack may settle by a few micrometres.
 //
@@ -16,6 +18,7 @@
 
 #include "sim/body_directory.h"
 #include "sim/body_loads.h"
+#include "sim/joint_directory.h"
 #include "sim/status.h"
 #include "tumble/physics/world.h"
 #include "tumble/v1/state.pb.h"
@@ -30,15 +33,18 @@ inline constexpr std::uint32_t kWorldStateFormat = 1;
 // restore allocate 16 GiB; restore_world refuses one beyond this, and
 // SpawnBody refuses to hand out more, so that every saved world restores.
 inline constexpr std::uint32_t kMaxBodyIds = std::uint32_t{1} << 26;
+// Likewise the most joint ids a world hands out (AddJoint, restore_world).
+inline constexpr std::uint32_t kMaxJointIds = std::uint32_t{1} << 26;
 
-// Fills state->bodies, next_body_id, gravity and loads from the world (the
-// clock fields and the scene are the caller's). A body whose state
-// restore_world would refuse (not finite, or beyond kMaxMagnitude: the sim
-// removes such a body after the step that made it, so this never happens
-// unless that guard fails) is left out with its loads, so that a saved
-// world always restores; returns how many were left out.
-std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const BodyLoads& loads,
-                          tumble::v1::WorldState* state);
+// Fills state->bodies, next_body_id, joints, next_joint_id, gravity and
+// loads from the world (the clock fields and the scene are the caller's).
+// A body whose state restore_world would refuse (not finite, or beyond
+// kMaxMagnitude: the sim removes such a body after the step that made it,
+// so this never happens unless that guard fails) is left out with its
+// loads and joints, so that a saved world always restores; returns how
+// many bodies were left out.
+std::size_t capture_world(const physics::World& world, const BodyDirectory& directory, const JointDirectory& joints,
+                          const BodyLoads& loads, tumble::v1::WorldState* state);
 
 // The description of one body as it is now: what a scene file would say to
 // create it here, moving as it moves; written into `spec` (which may live
@@ -46,15 +52,17 @@ std::size_t capture_world(const physics::World& world, const BodyDirectory& dire
 void body_spec_now(const physics::World& world, const BodyDirectory& directory, physics::BodyId id,
                    tumble::v1::BodySpec* spec);
 
-// Rebuilds world, directory and loads (which must be empty) from a saved
+// Rebuilds world, directories and loads (which must be empty) from a saved
 // state, checking it as strictly as a scene file: every body spec, finite
-// momenta, unique ids and names below next_body_id, loads on known bodies.
+// momenta, unique ids and names below next_body_id, loads on known bodies,
+// joints the world accepts (World::joint_desc_error) on known bodies with
+// unique ids and names below next_joint_id, and finite impulses.
 // The one exception is a name string_limits.h refuses (too long, or digits
 // only), which a file written by an older server may hold: the body is
 // restored without it and a warning logged. On error the outputs are left
 // partly filled and must be discarded.
 Status restore_world(const tumble::v1::WorldState& state, physics::World* world, BodyDirectory* directory,
-                     BodyLoads* loads);
+                     JointDirectory* joints, BodyLoads* loads);
 
 // The scene a saved state keeps for Reset, with the names string_limits.h
 // refuses cleared (and a warning logged for each), as restore_world does.

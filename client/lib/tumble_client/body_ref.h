@@ -1,4 +1,4 @@
-// Naming a body the way a person types it.
+// Naming a body or a joint the way a person types it.
 #pragma once
 
 #include <string_view>
@@ -13,5 +13,9 @@ namespace tumble::client {
 // taken verbatim. Fails with kind invalid_argument on empty text or an id
 // out of range.
 Result<tumble::v1::BodyRef> parse_body_ref(std::string_view text);
+
+// Parses a joint reference by the same rule: digits are a JointRef.id,
+// anything else a JointRef.name.
+Result<tumble::v1::JointRef> parse_joint_ref(std::string_view text);
 
 }  // namespace tumble::client

@@ -352,7 +352,8 @@ Result<ServerMessage> NatsConnection::request(ClientMessage message, Timeout tim
   message.set_request_id(id);
   const std::string name = kind_name(message);
   // Reads go where any user may send them, so an observer lists bodies and stats too.
-  const bool read_only = message.has_list_bodies() || message.has_get_stats() || message.has_hello();
+  const bool read_only =
+      message.has_list_bodies() || message.has_list_joints() || message.has_get_stats() || message.has_hello();
   const std::string subject = read_only ? query_subject(state.options.world) : rpc_subject(state.options.world);
   const std::string token = "r" + std::to_string(id);
   const auto deadline = deadline_after(timeout);

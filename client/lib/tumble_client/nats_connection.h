@@ -1,8 +1,8 @@
 // NatsConnection: a world served into NATS, reached through a NATS server
 // with the nats.c client.
 //
-// Requests go to tumble.v1.<world>.rpc (reads: Hello, ListBodies and
-// GetStats, to tumble.v1.<world>.query) and are answered by whichever
+// Requests go to tumble.v1.<world>.rpc (reads: Hello, ListBodies,
+// ListJoints and GetStats, to tumble.v1.<world>.query) and are answered by whichever
 // server of the world takes them; pose frames are read from one of the
 // streams the world publishes (tumble.v1.<world>.poses.<stream>), world
 // events from tumble.v1.<world>.events. The NATS user's permissions are the

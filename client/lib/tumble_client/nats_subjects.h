@@ -4,7 +4,7 @@
 //   tumble.v1.<world>.key.<stream>     request: the stream's latest frame as a key frame
 //   tumble.v1.<world>.events           world events, one per message
 //   tumble.v1.<world>.rpc              request: a ClientMessage; reply: a ServerMessage
-//   tumble.v1.<world>.query            the same for Hello, ListBodies and GetStats only
+//   tumble.v1.<world>.query            the same for Hello, ListBodies, ListJoints and GetStats only
 //   tumble.v1.worlds                   request: every server answers its WorldInfo
 //
 // Payloads are protobuf bytes, one message per NATS message, without the

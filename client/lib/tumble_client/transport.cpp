@@ -44,9 +44,14 @@ ServerMessage::KindCase expected_reply(ClientMessage::KindCase request) {
     case ClientMessage::kStep:
     case ClientMessage::kReset:
     case ClientMessage::kSetTickRate:
+    case ClientMessage::kAddJoint:
+    case ClientMessage::kRemoveJoint:
+    case ClientMessage::kSetJointMotor:
       return ServerMessage::kAck;
     case ClientMessage::kListBodies:
       return ServerMessage::kBodyList;
+    case ClientMessage::kListJoints:
+      return ServerMessage::kJointList;
     case ClientMessage::kSubscribe:
       return ServerMessage::kSubscribed;
     case ClientMessage::kGetStats:
@@ -65,6 +70,8 @@ std::uint64_t echoed_request_id(const ServerMessage& message) {
       return message.error().request_id();
     case ServerMessage::kBodyList:
       return message.body_list().request_id();
+    case ServerMessage::kJointList:
+      return message.joint_list().request_id();
     case ServerMessage::kSubscribed:
       return message.subscribed().request_id();
     case ServerMessage::kStats:
@@ -118,6 +125,52 @@ Result<tumble::v1::BodyList> Transport::list_bodies_page(std::uint32_t start_id,
   message.mutable_list_bodies()->set_start_id(start_id);
   message.mutable_list_bodies()->set_max_bodies(max_bodies);
   return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_body_list);
+}
+
+Result<tumble::v1::JointList> Transport::list_joints(Timeout timeout) {
+  auto all = list_joints_page(0, 0, timeout);
+  if (!all) return all;
+  while (all->next_start_id() != 0) {
+    auto page = list_joints_page(all->next_start_id(), 0, timeout);
+    if (!page) return page;
+    // As list_bodies: a server whose pages do not advance would loop forever.
+    if (page->next_start_id() != 0 && page->next_start_id() <= all->next_start_id()) {
+      return Failure{FailureKind::protocol, "the server's JointList pages do not advance: next_start_id " +
+                                                std::to_string(page->next_start_id()) + " after " +
+                                                std::to_string(all->next_start_id())};
+    }
+    for (auto& joint : *page->mutable_joints()) *all->add_joints() = std::move(joint);
+    all->set_tick(page->tick());
+    all->set_total_joints(page->total_joints());
+    all->set_next_start_id(page->next_start_id());
+  }
+  return all;
+}
+
+Result<tumble::v1::JointList> Transport::list_joints_page(std::uint32_t start_id, std::uint32_t max_joints,
+                                                          Timeout timeout) {
+  ClientMessage message;
+  message.mutable_list_joints()->set_start_id(start_id);
+  message.mutable_list_joints()->set_max_joints(max_joints);
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_joint_list);
+}
+
+Result<tumble::v1::Ack> Transport::add_joint(const tumble::v1::JointSpec& joint, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_add_joint()->mutable_joint() = joint;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Transport::remove_joint(const tumble::v1::JointRef& joint, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_remove_joint()->mutable_joint() = joint;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
+}
+
+Result<tumble::v1::Ack> Transport::set_joint_motor(const tumble::v1::SetJointMotor& motor, Timeout timeout) {
+  ClientMessage message;
+  *message.mutable_set_joint_motor() = motor;
+  return take_payload(request(std::move(message), timeout), &ServerMessage::mutable_ack);
 }
 
 Result<tumble::v1::Subscribed> Transport::subscribe(const tumble::v1::Subscribe& subscribe, Timeout timeout) {

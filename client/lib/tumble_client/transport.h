@@ -36,7 +36,7 @@ class Transport {
 
   // Sends `message` with the transport's next request id (whatever
   // request_id it holds is replaced) and waits up to `timeout` for the reply
-  // that echoes it: Ack, BodyList, Subscribed or Stats, checked against the
+  // that echoes it: Ack, BodyList, JointList, Subscribed or Stats, checked against the
   // request's kind. Fails with kind server when the reply is an Error (or
   // the request was refused before it reached a server: PERMISSION_DENIED),
   // timeout when no reply came in time, connect when nothing serves the
@@ -82,6 +82,14 @@ class Transport {
   Result<tumble::v1::Ack> reset(Timeout timeout);
   Result<tumble::v1::Ack> set_tick_rate(double rate_hz, Timeout timeout);
   Result<tumble::v1::Stats> get_stats(Timeout timeout);
+  // Every joint, page after page, as list_bodies does for bodies.
+  Result<tumble::v1::JointList> list_joints(Timeout timeout);
+  Result<tumble::v1::JointList> list_joints_page(std::uint32_t start_id, std::uint32_t max_joints, Timeout timeout);
+  // The Ack's joint_id is the new joint's id.
+  Result<tumble::v1::Ack> add_joint(const tumble::v1::JointSpec& joint, Timeout timeout);
+  Result<tumble::v1::Ack> remove_joint(const tumble::v1::JointRef& joint, Timeout timeout);
+  // SetJointMotor without a motor turns it off.
+  Result<tumble::v1::Ack> set_joint_motor(const tumble::v1::SetJointMotor& motor, Timeout timeout);
 
  protected:
   Transport() = default;
