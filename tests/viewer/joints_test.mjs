@@ -232,3 +232,30 @@ test("dragging the last link of a hanging chain pulls the links above it", async
   assert.deepEqual(page.errors, []);
   await page.close();
 });
+
+test("after the server comes back the page lists the joints again, and the selected joint's state is the new server's", async () => {
+  const page = await openViewer();
+  const pivot = await page.evaluate(() => window.tumbleViewer.jointId("pivot"));
+  const at = await page.evaluate((id) => window.tumbleViewer.jointScreenPosition(id), pivot);
+  await page.mouse.click(at.x, at.y);
+  await page.waitForFunction((id) => window.tumbleViewer.jointState(id) !== null && window.tumbleViewer.selectedJointId === id,
+                             pivot, { timeout: kWaitMs });
+  const old = await page.evaluate((id) => window.tumbleViewer.jointState(id), pivot);
+
+  const { port, httpPort } = server;
+  await server.stop();
+  server = null;
+  await page.waitForFunction(() => window.tumbleViewer.ready === false, null, { timeout: kWaitMs });
+  server = await startTumbled(options.tumbled, ["--scene", path.join(sceneDir, "scene.json"), "--tick-rate", "120",
+                                                "--token", kToken], { http: true, port, httpPort });
+  // The new server counts ticks from 0: its states are older by the tick,
+  // and still the ones to show.
+  await page.waitForFunction(({ id, tick }) => {
+    const hook = window.tumbleViewer;
+    const state = hook.jointState(id);
+    return hook.ready && hook.jointsDrawn() === hook.jointIds().length && state !== null && state.tick < tick;
+  }, { id: pivot, tick: old.tick }, { timeout: kWaitMs });
+  assert.equal(await page.evaluate(() => window.tumbleViewer.selectedJointId), pivot);
+  assert.deepEqual(page.errors, []);
+  await page.close();
+});

@@ -39,14 +39,16 @@ export class JointView {
   // Replaces the joints with those of a JointList (JointInfo[]), whose
   // world-frame anchors and axis are at the poses poseOf(bodyId) gives,
   // {position[3], orientation[4] (w, x, y, z)} or null for the mesh's
-  // pose. A joint already drawn keeps its frames: a joint's anchors never
-  // move in its bodies' frames.
-  setJoints(infos, poseOf) {
+  // pose. A joint already drawn keeps its frames, a joint's anchors never
+  // moving in its bodies' frames, unless `keepFrames` is false (the first
+  // listing of a session: the server may hold another world now).
+  setJoints(infos, poseOf, keepFrames = true) {
     const seen = new Set();
     for (const info of infos) {
       seen.add(info.id);
       const old = this.joints.get(info.id);
-      if (old && old.info.type === info.type && old.info.bodyA === info.bodyA && old.info.bodyB === info.bodyB) {
+      if (keepFrames && old && old.info.type === info.type && old.info.bodyA === info.bodyA &&
+          old.info.bodyB === info.bodyB) {
         old.info = info;
         continue;
       }
@@ -100,6 +102,7 @@ export class JointView {
     };
     this.joints.set(info.id, joint);
     this.view.scene.add(dots, lines);
+    this.paint(joint);
     this.place(joint);
   }
 

@@ -49,6 +49,7 @@ class Viewer {
     this.periodTicks = 1;     // of the pose stream
     this.statsTimer = null;
     this.jointStates = new Map();  // id -> {state (JointState), tick}, the newest known
+    this.jointsListed = false;     // this session listed the joints already
     this.frameWaiters = [];        // {tick, resolve}: joint listings waiting for their tick's frame
     this.listBodies = coalescing(() => this.listBodiesOnce());
     this.listJoints = coalescing(() => this.listJointsOnce());
@@ -75,6 +76,9 @@ class Viewer {
   // joints, poll stats.
   async start(session, welcome) {
     this.session = session;
+    // Another server's ticks may be behind this one's: states start afresh.
+    this.jointStates.clear();
+    this.jointsListed = false;
     this.role = types.roleName(welcome.role);
     this.hud.setRole(this.role);
     this.hud.setClock(welcome.tick, welcome.simTime);
@@ -137,7 +141,8 @@ class Viewer {
     if (session !== this.session) return;
     if (tick !== null) await this.frameAt(tick);
     if (session !== this.session) return;
-    this.joints.setJoints(joints, (id) => this.poses.poseAt(id, tick));
+    this.joints.setJoints(joints, (id) => this.poses.poseAt(id, tick), this.jointsListed);
+    this.jointsListed = true;
     for (const id of [...this.jointStates.keys()]) if (!this.joints.joints.has(id)) this.jointStates.delete(id);
     for (const info of joints) if (info.state) this.noteJointState(info.state, tick ?? 0);
     this.hud.setJoints(joints.length);
