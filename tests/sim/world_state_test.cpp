@@ -24,6 +24,7 @@ namespace fs = std::filesystem;
 struct Built {
   physics::World world;
   BodyDirectory directory;
+  JointDirectory joints;
   BodyLoads loads;
 };
 
@@ -89,7 +90,7 @@ TEST(WorldState, RoundTripThroughAFileIsExact) {
   ASSERT_FALSE(original.world.is_awake(original.directory.id_of("a")));
 
   tumble::v1::WorldState state;
-  capture_world(original.world, original.directory, original.loads, &state);
+  capture_world(original.world, original.directory, original.joints, original.loads, &state);
   state.set_tick(240);
   ASSERT_TRUE(write_state_file(dir.file("world.state"), state).ok());
   EXPECT_FALSE(fs::exists(dir.file("world.state.tmp")));
@@ -101,7 +102,7 @@ TEST(WorldState, RoundTripThroughAFileIsExact) {
   ASSERT_TRUE(exists);
   EXPECT_EQ(read.tick(), 240u);
   Built restored;
-  const Status restore = restore_world(read, &restored.world, &restored.directory, &restored.loads);
+  const Status restore = restore_world(read, &restored.world, &restored.directory, &restored.joints, &restored.loads);
   ASSERT_TRUE(restore.ok()) << restore.message();
   expect_same_world(original.world, restored.world);
   EXPECT_EQ(restored.directory.id_of("b"), physics::kInvalidBodyId);
@@ -138,7 +139,7 @@ TEST(WorldState, ABodyThatCouldNotBeRestoredIsNeverSaved) {
   original.world.set_state(b, {0, 1.5, 0}, physics::Quat::Identity(), {2e9, 0, 0}, physics::Vec3::Zero());
 
   tumble::v1::WorldState state;
-  EXPECT_EQ(capture_world(original.world, original.directory, original.loads, &state), 2u);
+  EXPECT_EQ(capture_world(original.world, original.directory, original.joints, original.loads, &state), 2u);
   ASSERT_EQ(state.bodies_size(), static_cast<int>(original.world.body_count()) - 2);
   for (const tumble::v1::SavedBody& saved : state.bodies()) {
     EXPECT_NE(saved.id(), a);
@@ -149,7 +150,7 @@ TEST(WorldState, ABodyThatCouldNotBeRestoredIsNeverSaved) {
   EXPECT_EQ(state.loads(0).body(), ball);
   // What was saved restores, and the ids left out are never handed out again.
   Built restored;
-  const Status status = restore_world(state, &restored.world, &restored.directory, &restored.loads);
+  const Status status = restore_world(state, &restored.world, &restored.directory, &restored.joints, &restored.loads);
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_EQ(restored.world.body_count(), original.world.body_count() - 2);
   EXPECT_EQ(restored.world.next_body_id(), original.world.next_body_id());
@@ -180,11 +181,11 @@ TEST(WorldState, InconsistentStatesAreRefused) {
   Built original;
   build(kPile, &original);
   tumble::v1::WorldState good;
-  capture_world(original.world, original.directory, original.loads, &good);
+  capture_world(original.world, original.directory, original.joints, original.loads, &good);
 
   auto error_of = [](const tumble::v1::WorldState& state) {
     Built target;
-    return restore_world(state, &target.world, &target.directory, &target.loads).message();
+    return restore_world(state, &target.world, &target.directory, &target.joints, &target.loads).message();
   };
   EXPECT_EQ(error_of(good), "");
   tumble::v1::WorldState bad = good;
@@ -228,11 +229,11 @@ TEST(WorldState, NamesThisServerRefusesAreClearedNotTheWorld) {
   Built original;
   build(kPile, &original);
   tumble::v1::WorldState saved;
-  capture_world(original.world, original.directory, original.loads, &saved);
+  capture_world(original.world, original.directory, original.joints, original.loads, &saved);
   saved.mutable_bodies(1)->mutable_spec()->set_name("123");
   saved.mutable_bodies(2)->mutable_spec()->set_name(std::string(1000000, 'b'));
   Built restored;
-  ASSERT_TRUE(restore_world(saved, &restored.world, &restored.directory, &restored.loads).ok());
+  ASSERT_TRUE(restore_world(saved, &restored.world, &restored.directory, &restored.joints, &restored.loads).ok());
   expect_same_world(original.world, restored.world);
   EXPECT_EQ(restored.directory.name_of(saved.bodies(1).id()), "");
   EXPECT_EQ(restored.directory.name_of(saved.bodies(2).id()), "");
@@ -254,11 +255,11 @@ TEST(WorldState, MomentaThatGiveAVelocityOutsideTheRangesAreRefused) {
   Built original;
   build(kPile, &original);
   tumble::v1::WorldState state;
-  capture_world(original.world, original.directory, original.loads, &state);
+  capture_world(original.world, original.directory, original.joints, original.loads, &state);
   const physics::BodyId id = state.bodies(3).id();
   state.mutable_bodies(3)->mutable_linear_momentum()->set_x(1e12 * original.world.mass(id));
   Built restored;
-  const Status status = restore_world(state, &restored.world, &restored.directory, &restored.loads);
+  const Status status = restore_world(state, &restored.world, &restored.directory, &restored.joints, &restored.loads);
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("bodies[3]: its momenta give a velocity of [1000000000000.000000"), std::string::npos)
       << status.message();
@@ -268,17 +269,17 @@ TEST(WorldState, ABodySavedWithoutAnOrientationIsRestoredUpright) {
   Built original;
   build(kPile, &original);
   tumble::v1::WorldState state;
-  capture_world(original.world, original.directory, original.loads, &state);
+  capture_world(original.world, original.directory, original.joints, original.loads, &state);
   state.mutable_bodies(1)->mutable_spec()->clear_orientation();
   Built restored;
-  ASSERT_TRUE(restore_world(state, &restored.world, &restored.directory, &restored.loads).ok());
+  ASSERT_TRUE(restore_world(state, &restored.world, &restored.directory, &restored.joints, &restored.loads).ok());
   const physics::BodyId id = state.bodies(1).id();
   EXPECT_EQ(restored.world.orientation(id).coeffs(), physics::Quat::Identity().coeffs());
   // And saved again, it restores again.
   tumble::v1::WorldState again;
-  capture_world(restored.world, restored.directory, restored.loads, &again);
+  capture_world(restored.world, restored.directory, restored.joints, restored.loads, &again);
   Built twice;
-  const Status status = restore_world(again, &twice.world, &twice.directory, &twice.loads);
+  const Status status = restore_world(again, &twice.world, &twice.directory, &twice.joints, &twice.loads);
   EXPECT_TRUE(status.ok()) << status.message();
 }
 
