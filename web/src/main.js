@@ -29,6 +29,8 @@ const kStatsIntervalMs = 1000;
 const kInspectorIntervalMs = 100;
 // A joint listing waits at most this long for the pose frame of its tick, ms.
 const kFrameWaitMs = 500;
+// The selected joint's state is asked for this often, ms.
+const kJointStateIntervalMs = 100;
 
 const types = protocolTypes(rootFromDescriptor(descriptor));
 const Events = types.WorldEventKind;
@@ -50,6 +52,7 @@ class Viewer {
     this.statsTimer = null;
     this.jointStates = new Map();  // id -> {state (JointState), tick}, the newest known
     this.jointsListed = false;     // this session listed the joints already
+    this.askingJointState = false; // a ListJoints for the selected joint is under way
     this.frameWaiters = [];        // {tick, resolve}: joint listings waiting for their tick's frame
     this.listBodies = coalescing(() => this.listBodiesOnce());
     this.listJoints = coalescing(() => this.listJointsOnce());
@@ -69,6 +72,7 @@ class Viewer {
     this.connection.start();
 
     setInterval(() => this.refreshInspector(), kInspectorIntervalMs);
+    setInterval(() => this.pollJointState(), kJointStateIntervalMs);
     requestAnimationFrame((now) => this.frame(now));
   }
 
@@ -93,7 +97,6 @@ class Viewer {
         rateHz: kStreamRateHz,
         fields: types.PoseFields.POSE_FIELDS_POSE_AND_VELOCITY,
         encoding: types.PoseEncoding.POSE_ENCODING_FULL,
-        joints: true,
         events: [Events.WORLD_EVENT_BODY_SPAWNED, Events.WORLD_EVENT_BODY_REMOVED, Events.WORLD_EVENT_WORLD_RESET,
                  Events.WORLD_EVENT_BODY_ASLEEP, Events.WORLD_EVENT_BODY_AWAKE, Events.WORLD_EVENT_JOINT_ADDED,
                  Events.WORLD_EVENT_JOINT_REMOVED, Events.WORLD_EVENT_JOINT_BROKEN],
@@ -163,6 +166,25 @@ class Viewer {
     });
   }
 
+  // Asks for the selected joint's state: a ListJoints page of one joint
+  // from its id. One request at a time; a refusal is tried again at the
+  // next interval.
+  async pollJointState() {
+    const id = this.joints.selectedId;
+    const session = this.session;
+    if (id === null || !session || this.askingJointState) return;
+    this.askingJointState = true;
+    try {
+      const page = await session.listJointPage(id, 1);
+      const state = page.joints[0]?.id === id ? page.joints[0].state : null;
+      if (session === this.session && state) this.noteJointState(state, Number(page.tick));
+    } catch (error) {
+      // RATE_LIMITED or a closed session: the next interval asks again.
+    } finally {
+      this.askingJointState = false;
+    }
+  }
+
   // Keeps a JointState of `tick` unless a newer one is known.
   noteJointState(state, tick) {
     const known = this.jointStates.get(state.id);
@@ -175,10 +197,6 @@ class Viewer {
       if (!stats) return;
       this.hud.setStats(stats);
       this.clock.setRate(stats.tickRateHz);
-      // Frames without the selected joint's state (an older server, or a
-      // NATS stream without joints): its state from a listing instead.
-      const selected = this.joints.selectedId;
-      if (selected !== null && !this.latest?.joints?.some((state) => state.id === selected)) await this.listJoints();
     } catch (error) {
       // RATE_LIMITED or a closed session: the next poll tries again.
     }
@@ -192,7 +210,6 @@ class Viewer {
     // second (or a few frames) mean a pause, a step or a stalled page.
     this.clock.observe(this.lastTick, performance.now(), Math.max(this.clock.rateHz / 4, 4 * this.periodTicks));
     this.hud.setClock(this.lastTick, frame.simTime);
-    for (const state of frame.joints ?? []) this.noteJointState(state, this.lastTick);
     const waiting = this.frameWaiters;
     this.frameWaiters = waiting.filter((waiter) => waiter.tick > this.lastTick);
     for (const waiter of waiting) if (waiter.tick <= this.lastTick) waiter.resolve();

@@ -197,22 +197,25 @@ export class NatsSession {
     }));
   }
 
-  // Every joint and the listing's tick, as Session.listAllJoints, read on
-  // `.query`, or on `.rpc` for a controller where that fails. Where
-  // neither answers (an older server), no joints.
-  async listAllJoints() {
-    const list = (subject) => listJointPages((startId) => this.rpc({ listJoints: { startId } }, "jointList", subject));
+  // One JointList page, as Session.listJointPage, read on `.query`, or on
+  // `.rpc` for a controller where that fails.
+  async listJointPage(startId, maxJoints = 0) {
+    const ask = (subject) => this.rpc({ listJoints: { startId, maxJoints } }, "jointList", subject);
     try {
-      return await list(this.querySubject);
+      return await ask(this.querySubject);
+    } catch (error) {
+      if (!(error instanceof ProtocolError) || this.closed || !this.controller) throw error;
+    }
+    return ask(this.world.rpcSubject);
+  }
+
+  // Every joint and the listing's tick, as Session.listAllJoints. Where
+  // nothing this user may ask answers (an older server), no joints.
+  async listAllJoints() {
+    try {
+      return await listJointPages((startId) => this.listJointPage(startId));
     } catch (error) {
       if (!(error instanceof ProtocolError) || this.closed) throw error;
-    }
-    if (this.controller) {
-      try {
-        return await list(this.world.rpcSubject);
-      } catch (error) {
-        if (!(error instanceof ProtocolError) || this.closed) throw error;
-      }
     }
     return { joints: [], tick: null };
   }

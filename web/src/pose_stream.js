@@ -2,9 +2,8 @@
 // they are, QUANTIZED frames decoded, DELTA frames applied to the bodies of
 // the last key frame. Frames must come in the order SequenceGate lets them
 // through; each decode() returns the whole state as a FULL-shaped frame
-// (ids, positions, orientations and velocities as flat arrays, and the
-// joints' states the frame carries), which is what PoseBuffer and the
-// selection panel read.
+// (ids, positions, orientations and velocities as flat arrays), which is
+// what PoseBuffer and the selection panel read.
 import { decodePackedPoses } from "./quantized_poses.js";
 
 // PoseEncoding numbers (proto/tumble/v1/protocol.proto).
@@ -26,13 +25,12 @@ export class PoseStream {
     this.hasKeyFrame = false;
   }
 
-  // The whole state `frame` shows, {tick, simTime, sequence, joints, ids,
-  // positions, orientations, linearVelocities, angularVelocities}. Throws on malformed
+  // The whole state `frame` shows, {tick, simTime, sequence, ids, positions,
+  // orientations, linearVelocities, angularVelocities}. Throws on malformed
   // packed bytes (PackedPosesError) and on a DELTA change with no key frame
   // before it, which SequenceGate never lets through.
   decode(frame) {
-    const base = { tick: Number(frame.tick), simTime: frame.simTime, sequence: Number(frame.sequence),
-                   joints: frame.joints ?? [] };
+    const base = { tick: Number(frame.tick), simTime: frame.simTime, sequence: Number(frame.sequence) };
     if (frame.encoding === kFull || frame.encoding === undefined) {
       return {
         ...base,

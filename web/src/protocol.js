@@ -100,9 +100,14 @@ export class Session {
     return listPages((startId) => this.request("listBodies", { startId }));
   }
 
+  // One JointList page: at most `maxJoints` (0: as many as fit) from `startId` on.
+  listJointPage(startId, maxJoints = 0) {
+    return this.request("listJoints", { startId, maxJoints });
+  }
+
   // Every joint and the listing's tick; see listJointPages().
   listAllJoints() {
-    return listJointPages((startId) => this.request("listJoints", { startId }));
+    return listJointPages((startId) => this.listJointPage(startId));
   }
 
   write(fields) {
