@@ -80,3 +80,20 @@ test("TickClock follows frame arrivals slowly and jumps after a pause", () => {
   clock.setRate(120);
   assert.equal(clock.tickAt(11000), null);
 });
+
+test("poseAt gives one body's pose as sample() draws it, and null for a body no frame holds", () => {
+  const buffer = new PoseBuffer();
+  buffer.push(frame(10, [{ id: 1, p: [0, 0, 0], q: rotation(0, [0, 0, 1]) }, { id: 2, p: [5, 5, 5], q: rotation(0, [0, 0, 1]) }]));
+  buffer.push(frame(12, [{ id: 2, p: [7, 5, 5], q: rotation(Math.PI / 2, [0, 0, 1]) }]));
+  const drawn = sampleAt(buffer, 11).get(2);
+  const pose = buffer.poseAt(2, 11);
+  close(pose.position, drawn.p);
+  close(pose.orientation, drawn.q);
+  close(pose.position, [6, 5, 5]);
+  close(pose.orientation, rotation(Math.PI / 4, [0, 0, 1]));
+  // Outside the frames held: the nearest; a body only the older frame has: its pose there.
+  close(buffer.poseAt(2, 20).position, [7, 5, 5]);
+  close(buffer.poseAt(2, 0).position, [5, 5, 5]);
+  close(buffer.poseAt(1, 11).position, [0, 0, 0]);
+  assert.equal(buffer.poseAt(3, 11), null);
+});

@@ -101,6 +101,7 @@ class FakeWorld {
     this.sequence = 0;
     this.tick = 0;
     this.bodies = new Map();  // id -> cell [x, y, z]
+    this.joints = [];         // joint ids, ascending
     this.previous = new Map();  // what the last frame published held
     this.keyRequests = 0;
     this.info = types.WorldInfo.fromObject({
@@ -122,6 +123,14 @@ class FakeWorld {
         return { bodyList: { requestId: request.requestId, tick: this.tick,
                              bodies: ids.slice(0, 2).map((id) => ({ id, name: `body${id}` })),
                              nextStartId: ids.length > 2 ? ids[2] : 0, totalBodies: this.bodies.size } };
+      }
+      if (request.kind === "listJoints") {
+        // Pages of two joints, each page a tick later than the one before.
+        const ids = this.joints.filter((id) => id >= request.listJoints.startId);
+        this.tick += 1;
+        return { jointList: { requestId: request.requestId, tick: this.tick,
+                              joints: ids.slice(0, 2).map((id) => ({ id, name: `joint${id}`, type: 2 })),
+                              nextStartId: ids.length > 2 ? ids[2] : 0, totalJoints: this.joints.length } };
       }
       return { error: { requestId: request.requestId, code: types.ErrorCode.INVALID_ARGUMENT, message: "not here" } };
     });
@@ -358,15 +367,21 @@ test("after a lost DELTA frame nothing new is shown until a key frame restores t
   }
 });
 
-test("an observer lists the bodies by name on .query, page by page", async () => {
+test("an observer lists the bodies and joints by name on .query, page by page", async () => {
   const server = await connectAs("tumbled");
   const world = new FakeWorld(server, "reads");
   for (const id of [3, 5, 9]) world.bodies.set(id, [id, 0, 0]);
+  world.joints = [1, 2, 6];
   const observer = await connectAs("observer");
   const asObserver = new NatsSession(observer, types, await findWorld(observer, types, "reads"));
   try {
     assert.equal((await asObserver.hello()).role, types.Role.ROLE_OBSERVER);
     assert.deepEqual((await asObserver.listAllBodies()).map((b) => b.name), ["body3", "body5", "body9"]);
+    // The listing's tick is its first page's.
+    const tick = world.tick + 1;
+    const { joints, tick: listed } = await asObserver.listAllJoints();
+    assert.deepEqual(joints.map((j) => j.name), ["joint1", "joint2", "joint6"]);
+    assert.equal(listed, tick);
   } finally {
     asObserver.close();
     world.close();
@@ -379,6 +394,7 @@ test("a controller lists the bodies page by page; NATS refuses an observer's com
   const server = await connectAs("tumbled");
   const world = new FakeWorld(server, "roles", { query: false });
   for (const id of [4, 7, 8, 11, 12]) world.bodies.set(id, [id, 0, 0]);
+  world.joints = [2, 3];
   const controller = await connectAs("controller");
   const observer = await connectAs("observer");
   const asController = new NatsSession(controller, types, await findWorld(controller, types, "roles"));
@@ -386,6 +402,7 @@ test("a controller lists the bodies page by page; NATS refuses an observer's com
   try {
     assert.equal((await asController.hello()).role, types.Role.ROLE_CONTROLLER);
     assert.deepEqual((await asController.listAllBodies()).map((b) => b.name), ["body4", "body7", "body8", "body11", "body12"]);
+    assert.deepEqual((await asController.listAllJoints()).joints.map((j) => j.name), ["joint2", "joint3"]);
     // The server's own Error comes back as such.
     await assert.rejects(asController.request("step", { ticks: 1 }), (e) => e.codeName === "INVALID_ARGUMENT" && e.message === "not here");
 
@@ -398,6 +415,8 @@ test("a controller lists the bodies page by page; NATS refuses an observer's com
     const listing = asObserver.listAllBodies();
     await world.publish({ key: true });
     assert.deepEqual((await listing).map((b) => [b.id, b.shape]), [[4, null], [7, null], [8, null], [11, null], [12, null]]);
+    // Its joints: none, where nothing it may ask lists them.
+    assert.deepEqual(await asObserver.listAllJoints(), { joints: [], tick: null });
   } finally {
     asController.close();
     asObserver.close();

@@ -1,5 +1,5 @@
 // The corner display: connection state and role, tick, sim time, the
-// real-time factor, body count and stream rate.
+// real-time factor, body and joint counts and stream rate.
 const fixed = (value, digits) => (Number.isFinite(value) ? value.toFixed(digits) : "-");
 
 export class Hud {
@@ -8,7 +8,8 @@ export class Hud {
     this.element = element;
     this.rows = {};
     for (const [key, label] of [["connection", "server"], ["role", "role"], ["tick", "tick"], ["time", "sim time"],
-                                ["rtf", "real-time factor"], ["bodies", "bodies"], ["stream", "stream"]]) {
+                                ["rtf", "real-time factor"], ["bodies", "bodies"], ["joints", "joints"],
+                                ["stream", "stream"]]) {
       const row = document.createElement("div");
       row.className = "hud-row";
       const name = document.createElement("span");
@@ -52,6 +53,11 @@ export class Hud {
   setStats(stats) {
     this.rows.rtf.textContent = stats.paused ? "paused" : fixed(stats.realTimeFactor, 2);
     this.rows.bodies.textContent = `${stats.bodies} (${stats.bodiesAsleep} asleep)`;
+  }
+
+  // How many joints the world has.
+  setJoints(count) {
+    this.rows.joints.textContent = String(count);
   }
 
   setStream(rateHz, periodTicks) {

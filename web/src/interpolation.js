@@ -107,6 +107,21 @@ export class PoseBuffer {
       visit(id, position, orientation);
     }
   }
+
+  // Body `id`'s pose at `tick` as sample() would draw it, {position[3],
+  // orientation[4] (w, x, y, z)}, or null when no frame held has the body.
+  poseAt(id, tick) {
+    const frames = this.frames.filter((frame) => frame.index.has(id));
+    if (!frames.length) return null;
+    const b = frames.findIndex((frame) => frame.tick > tick);
+    const from = frames[b === -1 ? frames.length - 1 : Math.max(b - 1, 0)];
+    const to = b <= 0 ? from : frames[b];
+    const i = 3 * from.index.get(id), j = 3 * to.index.get(id);
+    const alpha = to === from ? 0 : (tick - from.tick) / (to.tick - from.tick);
+    const position = [0, 1, 2].map((k) => from.positions[i + k] + alpha * (to.positions[j + k] - from.positions[i + k]));
+    const orientation = slerp(from.orientations, (4 * i) / 3, to.orientations, (4 * j) / 3, alpha, [1, 0, 0, 0]);
+    return { position, orientation };
+  }
 }
 
 function visitFrame(frame, visit) {

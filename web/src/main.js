@@ -1,7 +1,8 @@
-// The viewer page: connects to tumbled's WebSocket, draws the world live,
-// and lets the user select and push bodies. Wires the modules together:
-// Connection (socket, reconnects) -> Session (protocol) -> PoseBuffer and
-// TickClock (interpolation) -> WorldView (three.js), with Hud, Inspector and
+// The viewer page: connects to tumbled's WebSocket, draws the world live
+// with its joints, and lets the user select bodies and joints and push
+// bodies. Wires the modules together: Connection (socket, reconnects) ->
+// Session (protocol) -> PoseBuffer and TickClock (interpolation) ->
+// WorldView and JointView (three.js), with Hud, Inspector and
 // PointerControl around it. Opened as #nats=ws://HOST:PORT&world=NAME, it
 // reads the world through NATS instead: NatsLink -> NatsSession, the same
 // surface.
@@ -12,6 +13,7 @@ import { Connection } from "./connection.js";
 import { Hud } from "./hud.js";
 import { Inspector } from "./inspector.js";
 import { PoseBuffer, TickClock } from "./interpolation.js";
+import { JointView } from "./joint_view.js";
 import { NatsLink } from "./nats_link.js";
 import { PointerControl } from "./pointer.js";
 import { protocolTypes, rootFromDescriptor } from "./schema.js";
@@ -25,6 +27,10 @@ const kStreamRateHz = 60;
 const kStatsIntervalMs = 1000;
 // The selection panel is refreshed this often, ms.
 const kInspectorIntervalMs = 100;
+// A joint listing waits at most this long for the pose frame of its tick, ms.
+const kFrameWaitMs = 500;
+// The selected joint's state is asked for this often, ms.
+const kJointStateIntervalMs = 100;
 
 const types = protocolTypes(rootFromDescriptor(descriptor));
 const Events = types.WorldEventKind;
@@ -32,6 +38,7 @@ const Events = types.WorldEventKind;
 class Viewer {
   constructor() {
     this.view = new WorldView(document.getElementById("scene"));
+    this.joints = new JointView(this.view);
     this.hud = new Hud(document.getElementById("hud"));
     this.inspector = new Inspector(document.getElementById("inspector"));
     this.poses = new PoseBuffer();
@@ -43,13 +50,19 @@ class Viewer {
     this.latest = null;       // the newest PoseFrame, for the selection panel
     this.periodTicks = 1;     // of the pose stream
     this.statsTimer = null;
-    this.listing = null;      // a ListBodies under way
-    this.listAgain = false;   // another was asked for meanwhile
+    this.jointStates = new Map();  // id -> {state (JointState), tick}, the newest known
+    this.jointsListed = false;     // this session listed the joints already
+    this.askingJointState = false; // a ListJoints for the selected joint is under way
+    this.frameWaiters = [];        // {tick, resolve}: joint listings waiting for their tick's frame
+    this.listBodies = coalescing(() => this.listBodiesOnce());
+    this.listJoints = coalescing(() => this.listJointsOnce());
 
     this.pointer = new PointerControl(this.view, {
       onSelect: (id) => this.select(id),
       canPush: (id) => this.view.bodies.get(id)?.motion === "dynamic",
       onPush: (id, impulse, point) => this.push(id, impulse, point),
+      pickJoint: (x, y) => this.joints.pick(x, y),
+      onSelectJoint: (id) => this.selectJoint(id),
     });
 
     this.connection = connectionFor(new URLSearchParams(location.hash.slice(1)));
@@ -59,12 +72,17 @@ class Viewer {
     this.connection.start();
 
     setInterval(() => this.refreshInspector(), kInspectorIntervalMs);
+    setInterval(() => this.pollJointState(), kJointStateIntervalMs);
     requestAnimationFrame((now) => this.frame(now));
   }
 
-  // A new session after its Welcome: list the bodies, subscribe, poll stats.
+  // A new session after its Welcome: list the bodies, subscribe, list the
+  // joints, poll stats.
   async start(session, welcome) {
     this.session = session;
+    // Another server's ticks may be behind this one's: states start afresh.
+    this.jointStates.clear();
+    this.jointsListed = false;
     this.role = types.roleName(welcome.role);
     this.hud.setRole(this.role);
     this.hud.setClock(welcome.tick, welcome.simTime);
@@ -80,7 +98,8 @@ class Viewer {
         fields: types.PoseFields.POSE_FIELDS_POSE_AND_VELOCITY,
         encoding: types.PoseEncoding.POSE_ENCODING_FULL,
         events: [Events.WORLD_EVENT_BODY_SPAWNED, Events.WORLD_EVENT_BODY_REMOVED, Events.WORLD_EVENT_WORLD_RESET,
-                 Events.WORLD_EVENT_BODY_ASLEEP, Events.WORLD_EVENT_BODY_AWAKE],
+                 Events.WORLD_EVENT_BODY_ASLEEP, Events.WORLD_EVENT_BODY_AWAKE, Events.WORLD_EVENT_JOINT_ADDED,
+                 Events.WORLD_EVENT_JOINT_REMOVED, Events.WORLD_EVENT_JOINT_BROKEN],
       });
       if (session !== this.session) return;  // it closed meanwhile
       this.periodTicks = subscribed.periodTicks;
@@ -89,6 +108,8 @@ class Viewer {
       this.pollStats();
       clearInterval(this.statsTimer);
       this.statsTimer = setInterval(() => this.pollStats(), kStatsIntervalMs);
+      // After the subscription, so the listing's poses are in the frames.
+      this.listJoints().catch((error) => console.warn("tumble: the joints could not be listed:", error.message));
     } catch (error) {
       console.warn("tumble: the session could not start:", error.message);
     }
@@ -100,29 +121,74 @@ class Viewer {
     this.session = null;
     this.ready = false;
     this.poses.clear();
+    for (const waiter of this.frameWaiters) waiter.resolve();
+    this.frameWaiters = [];
   }
 
-  // Asks for the body list and redraws the bodies; while one is under way,
-  // another is asked for once it is done (events come in bursts).
-  async listBodies() {
-    if (this.listing) {
-      this.listAgain = true;
-      return this.listing;
-    }
+  // Asks for the body list and redraws the bodies (listBodies() runs it,
+  // once more after one under way).
+  async listBodiesOnce() {
     const session = this.session;
-    this.listing = (async () => {
-      do {
-        this.listAgain = false;
-        const bodies = await session.listAllBodies();
-        if (session !== this.session) return;
-        this.view.setBodies(bodies);
-      } while (this.listAgain);
-    })();
+    const bodies = await session.listAllBodies();
+    if (session !== this.session) return;
+    this.view.setBodies(bodies);
+  }
+
+  // Asks for the joint list and redraws the joints (listJoints() runs it,
+  // once more after one under way). A new joint's anchors are taken into
+  // its bodies' frames at their poses of the listing's tick, so the
+  // listing waits for that tick's frame.
+  async listJointsOnce() {
+    const session = this.session;
+    const { joints, tick } = await session.listAllJoints();
+    if (session !== this.session) return;
+    if (tick !== null) await this.frameAt(tick);
+    if (session !== this.session) return;
+    this.joints.setJoints(joints, (id) => this.poses.poseAt(id, tick), this.jointsListed);
+    this.jointsListed = true;
+    for (const id of [...this.jointStates.keys()]) if (!this.joints.joints.has(id)) this.jointStates.delete(id);
+    for (const info of joints) if (info.state) this.noteJointState(info.state, tick ?? 0);
+    this.hud.setJoints(joints.length);
+    this.refreshInspector();
+  }
+
+  // Resolves once a pose frame of `tick` or later is held, or after
+  // kFrameWaitMs (a stream that stopped).
+  frameAt(tick) {
+    if (this.lastTick !== null && this.lastTick >= tick) return Promise.resolve();
+    return new Promise((resolve) => {
+      const waiter = { tick, resolve };
+      this.frameWaiters.push(waiter);
+      setTimeout(() => {
+        this.frameWaiters = this.frameWaiters.filter((w) => w !== waiter);
+        resolve();
+      }, kFrameWaitMs);
+    });
+  }
+
+  // Asks for the selected joint's state: a ListJoints page of one joint
+  // from its id. One request at a time; a refusal is tried again at the
+  // next interval.
+  async pollJointState() {
+    const id = this.joints.selectedId;
+    const session = this.session;
+    if (id === null || !session || this.askingJointState) return;
+    this.askingJointState = true;
     try {
-      await this.listing;
+      const page = await session.listJointPage(id, 1);
+      const state = page.joints[0]?.id === id ? page.joints[0].state : null;
+      if (session === this.session && state) this.noteJointState(state, Number(page.tick));
+    } catch (error) {
+      // RATE_LIMITED or a closed session: the next interval asks again.
     } finally {
-      this.listing = null;
+      this.askingJointState = false;
     }
+  }
+
+  // Keeps a JointState of `tick` unless a newer one is known.
+  noteJointState(state, tick) {
+    const known = this.jointStates.get(state.id);
+    if (!known || known.tick <= tick) this.jointStates.set(state.id, { state, tick });
   }
 
   async pollStats() {
@@ -144,13 +210,27 @@ class Viewer {
     // second (or a few frames) mean a pause, a step or a stalled page.
     this.clock.observe(this.lastTick, performance.now(), Math.max(this.clock.rateHz / 4, 4 * this.periodTicks));
     this.hud.setClock(this.lastTick, frame.simTime);
+    const waiting = this.frameWaiters;
+    this.frameWaiters = waiting.filter((waiter) => waiter.tick > this.lastTick);
+    for (const waiter of waiting) if (waiter.tick <= this.lastTick) waiter.resolve();
   }
 
   onEvent(event) {
     switch (event.kind) {
       case Events.WORLD_EVENT_BODY_ASLEEP: this.view.setAsleep(event.bodyId, true); break;
       case Events.WORLD_EVENT_BODY_AWAKE: this.view.setAsleep(event.bodyId, false); break;
-      default: this.listBodies().catch(() => {}); break;  // spawned, removed, reset
+      case Events.WORLD_EVENT_JOINT_ADDED:
+      case Events.WORLD_EVENT_JOINT_REMOVED:
+      case Events.WORLD_EVENT_JOINT_BROKEN:
+        this.listJoints().catch(() => {});
+        break;
+      case Events.WORLD_EVENT_WORLD_RESET:
+        // Joint ids start afresh: the joints are listed anew, not kept.
+        this.joints.clear();
+        this.jointStates.clear();
+        this.listBodies().then(() => this.listJoints()).catch(() => {});
+        break;
+      default: this.listBodies().catch(() => {}); break;  // spawned, removed
     }
   }
 
@@ -158,17 +238,27 @@ class Viewer {
   frame(now) {
     const tick = this.clock.tickAt(now);
     if (tick !== null) this.poses.sample(tick - this.periodTicks, (id, p, q) => this.view.setPose(id, p, q));
+    this.joints.update();
     this.view.render();
     if (this.session && this.latest && this.view.bodies.size) this.ready = true;
     requestAnimationFrame((next) => this.frame(next));
   }
 
   select(id) {
+    this.joints.select(null);
     this.view.select(id);
     this.refreshInspector();
   }
 
+  selectJoint(id) {
+    this.view.select(null);
+    this.joints.select(id);
+    this.refreshInspector();
+  }
+
   refreshInspector() {
+    const joint = this.joints.joints.get(this.joints.selectedId);
+    if (joint) return this.inspector.showJoint(joint.info, this.jointStates.get(joint.info.id)?.state ?? null);
     const body = this.view.bodies.get(this.view.selectedId);
     if (!body) return this.inspector.clear();
     const state = { position: [0, 0, 0], linearVelocity: [0, 0, 0], angularVelocity: [0, 0, 0] };
@@ -205,6 +295,31 @@ class Viewer {
       (error) => this.inspector.setNote(`The push was refused: ${error.codeName || error.message}`),
     ).finally(() => this.refreshInspector());
   }
+}
+
+// `run` (async) as a function that runs it, or, called while a run is under
+// way, runs it once more after that one (events come in bursts); resolves
+// when a run begun after the call is done.
+function coalescing(run) {
+  let running = null;
+  let again = false;
+  return async () => {
+    if (running) {
+      again = true;
+      return running;
+    }
+    running = (async () => {
+      do {
+        again = false;
+        await run();
+      } while (again);
+    })();
+    try {
+      await running;
+    } finally {
+      running = null;
+    }
+  };
 }
 
 // The link the page's address asks for: through NATS with `nats=` (and

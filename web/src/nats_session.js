@@ -12,7 +12,7 @@
 // those the stream carries, without shapes or names.
 import { PermissionViolationError } from "@nats-io/nats-core";
 import { PoseStream } from "./pose_stream.js";
-import { ProtocolError, listPages } from "./protocol.js";
+import { ProtocolError, listJointPages, listPages } from "./protocol.js";
 import { SequenceGate } from "./sequence_gate.js";
 
 // Replies to `tumble.v1.worlds` are collected until none came for this long, ms.
@@ -195,6 +195,29 @@ export class NatsSession {
       position: { x: p[3 * i], y: p[3 * i + 1], z: p[3 * i + 2] },
       orientation: { w: q[4 * i], x: q[4 * i + 1], y: q[4 * i + 2], z: q[4 * i + 3] },
     }));
+  }
+
+  // One JointList page, as Session.listJointPage, read on `.query`, or on
+  // `.rpc` for a controller where that fails.
+  async listJointPage(startId, maxJoints = 0) {
+    const ask = (subject) => this.rpc({ listJoints: { startId, maxJoints } }, "jointList", subject);
+    try {
+      return await ask(this.querySubject);
+    } catch (error) {
+      if (!(error instanceof ProtocolError) || this.closed || !this.controller) throw error;
+    }
+    return ask(this.world.rpcSubject);
+  }
+
+  // Every joint and the listing's tick, as Session.listAllJoints. Where
+  // nothing this user may ask answers (an older server), no joints.
+  async listAllJoints() {
+    try {
+      return await listJointPages((startId) => this.listJointPage(startId));
+    } catch (error) {
+      if (!(error instanceof ProtocolError) || this.closed) throw error;
+    }
+    return { joints: [], tick: null };
   }
 
   // The stream's rate, as Subscribed says it: {rateHz, periodTicks}, for

@@ -1,9 +1,10 @@
-// Picking and pushing with the pointer. A click on a body selects it (a
-// click on nothing clears the selection). Pressing on a dynamic body and
-// dragging pulls a line from the grabbed point across the plane through it
-// that faces the camera; releasing sends an impulse at that point, along the
-// line, of the body's mass times a speed that grows with the line's length.
-// The camera does not orbit while a body is dragged.
+// Picking and pushing with the pointer. A click on a joint's dot selects
+// the joint, a click on a body the body (a click on nothing clears the
+// selection). Pressing on a dynamic body and dragging pulls a line from the
+// grabbed point across the plane through it that faces the camera;
+// releasing sends an impulse at that point, along the line, of the body's
+// mass times a speed that grows with the line's length. The camera does not
+// orbit while a body is dragged.
 import * as THREE from "three";
 
 // Speed change a push aims for per metre dragged, 1/s, and at most, m/s.
@@ -21,7 +22,8 @@ export function pushImpulse(drag, mass) {
 
 export class PointerControl {
   // `view`: WorldView. `callbacks`: onSelect(id | null), canPush(id) ->
-  // bool, onPush(id, impulse, point) with world-frame THREE.Vector3s.
+  // bool, onPush(id, impulse, point) with world-frame THREE.Vector3s,
+  // pickJoint(clientX, clientY) -> id | null and onSelectJoint(id).
   constructor(view, callbacks) {
     this.view = view;
     this.callbacks = callbacks;
@@ -75,7 +77,9 @@ export class PointerControl {
     this.cancel();
     const moved = Math.hypot(event.clientX - press.x, event.clientY - press.y) >= kClickSlopPx;
     if (!moved) {
-      this.callbacks.onSelect(press.id);
+      const joint = this.callbacks.pickJoint?.(event.clientX, event.clientY) ?? null;
+      if (joint !== null) this.callbacks.onSelectJoint(joint);
+      else this.callbacks.onSelect(press.id);
       return;
     }
     if (!press.grab) return;  // an orbit of the camera

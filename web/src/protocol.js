@@ -17,24 +17,38 @@ export class ProtocolError extends Error {
 // Every body, page after page: `listPage(startId)` resolves with a
 // BodyList, asked for from each BodyList's nextStartId until it is 0.
 // Resolves with their BodyInfo in ascending id order; rejects as the pages
-// do, or when the pages do not advance.
-export async function listPages(listPage) {
-  const bodies = [];
+// do, or when the pages do not advance. With `field` "joints", the same for
+// JointLists.
+export async function listPages(listPage, field = "bodies") {
+  const items = [];
   let startId = 0;
   for (;;) {
     const page = await listPage(startId);
-    for (const body of page.bodies) bodies.push(body);
-    if (!page.nextStartId) return bodies;
+    for (const item of page[field]) items.push(item);
+    if (!page.nextStartId) return items;
     // Ids only grow from page to page; anything else would never end.
     if (page.nextStartId <= startId) {
-      throw new ProtocolError(`the server's BodyList pages do not advance: nextStartId ${page.nextStartId}`);
+      throw new ProtocolError(`the server's ${field} pages do not advance: nextStartId ${page.nextStartId}`);
     }
     startId = page.nextStartId;
   }
 }
 
+// Every joint with the tick of the listing: {joints: JointInfo[], tick},
+// `listPage(startId)` resolving with a JointList. The tick is the first
+// page's (a later page's joints may be of a later one).
+export async function listJointPages(listPage) {
+  let tick = null;
+  const joints = await listPages(async (startId) => {
+    const page = await listPage(startId);
+    tick ??= Number(page.tick);
+    return page;
+  }, "joints");
+  return { joints, tick };
+}
+
 // The ServerMessage fields that answer a request, by the oneof's name.
-const kReplies = new Set(["ack", "error", "bodyList", "subscribed", "stats"]);
+const kReplies = new Set(["ack", "error", "bodyList", "jointList", "subscribed", "stats"]);
 
 export class Session {
   // `types`: protocolTypes(); `send`: (Uint8Array) => void.
@@ -70,7 +84,7 @@ export class Session {
   }
 
   // Sends one request, e.g. request("applyImpulse", {body: {id: 3}, impulse: {...}}),
-  // and resolves with its reply (Ack, BodyList, Subscribed or Stats), or
+  // and resolves with its reply (Ack, BodyList, JointList, Subscribed or Stats), or
   // rejects with a ProtocolError.
   request(kind, payload = {}) {
     if (this.closed) return Promise.reject(new ProtocolError("the connection is closed"));
@@ -84,6 +98,16 @@ export class Session {
   // Every body, page after page; see listPages().
   listAllBodies() {
     return listPages((startId) => this.request("listBodies", { startId }));
+  }
+
+  // One JointList page: at most `maxJoints` (0: as many as fit) from `startId` on.
+  listJointPage(startId, maxJoints = 0) {
+    return this.request("listJoints", { startId, maxJoints });
+  }
+
+  // Every joint and the listing's tick; see listJointPages().
+  listAllJoints() {
+    return listJointPages((startId) => this.listJointPage(startId));
   }
 
   write(fields) {

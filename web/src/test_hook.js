@@ -24,6 +24,37 @@ export function installTestHook(viewer) {
     screenPosition: (id) => viewer.view.screenPosition(id),
     // The id of the selected body, or null.
     get selectedId() { return viewer.view.selectedId; },
+    // The ids of the joints listed.
+    jointIds: () => [...viewer.joints.joints.keys()],
+    // How many joints are drawn in the scene.
+    jointsDrawn: () => viewer.joints.drawnCount(),
+    // The id of the joint with this name, or null.
+    jointId: (name) => {
+      for (const [id, joint] of viewer.joints.joints) if (joint.info.name === name) return id;
+      return null;
+    },
+    // Where joint `id`'s anchors are drawn, {a: [x, y, z], b: [x, y, z]} m, or null.
+    jointAnchors: (id) => {
+      const joint = viewer.joints.joints.get(id);
+      return joint ? { a: joint.anchorA.toArray(), b: joint.anchorB.toArray() } : null;
+    },
+    // Where joint `id`'s anchor on body B is drawn, {x, y} in CSS pixels, or null.
+    jointScreenPosition: (id) => {
+      const joint = viewer.joints.joints.get(id);
+      return joint ? viewer.joints.screenPoint(joint.anchorB) : null;
+    },
+    // Joint `id`'s newest state, {tick, position, speed, force, torque,
+    // motorImpulse} (vectors as [x, y, z]), or null.
+    jointState: (id) => {
+      const known = viewer.jointStates.get(id);
+      if (!known) return null;
+      const v = (vector) => [vector?.x ?? 0, vector?.y ?? 0, vector?.z ?? 0];
+      const { state, tick } = known;
+      return { tick, position: state.position ?? 0, speed: state.speed ?? 0, force: v(state.force),
+               torque: v(state.torque), motorImpulse: state.motorImpulse ?? 0 };
+    },
+    // The id of the selected joint, or null.
+    get selectedJointId() { return viewer.joints.selectedId; },
   };
   window.tumbleViewer = Object.freeze(hook);
 }
