@@ -106,7 +106,13 @@ void World::Impl::set_joint_frames(JointDesc& desc, const Vec3& anchor_a, const 
   side(desc.body_b, anchor_b, desc.local_anchor_b, desc.local_basis_b);
 }
 
-JointId World::Impl::add_joint(const JointDesc& desc) { return add_joint_with_id(desc, next_joint_id()); }
+JointId World::Impl::add_joint(const JointDesc& desc) {
+  const JointId id = add_joint_with_id(desc, next_joint_id());
+  for (BodyId body : {desc.body_a, desc.body_b}) {
+    if (body != kWorldBodyId) wake_island(id_to_dense_[body]);
+  }
+  return id;
+}
 
 JointId World::Impl::add_joint_with_id(const JointDesc& desc, JointId id) {
   assert(joint_desc_error(desc) == nullptr);
@@ -125,7 +131,6 @@ JointId World::Impl::add_joint_with_id(const JointDesc& desc, JointId id) {
     if (body == kWorldBodyId) continue;
     if (body >= body_joints_.size()) body_joints_.resize(static_cast<std::size_t>(body) + 1);
     body_joints_[body].push_back(id);
-    wake_island(id_to_dense_[body]);
   }
   // Jointed bodies stop colliding: a contact they have now goes.
   if (!desc.collide_connected && desc.body_a != kWorldBodyId && desc.body_b != kWorldBodyId) {

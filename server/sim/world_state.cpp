@@ -343,15 +343,6 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
     joints->add(saved.id(), JointEntry{saved.name(), desc.body_a, desc.body_b});
   }
   world->set_next_joint_id(state.next_joint_id());
-  // Adding a joint wakes its bodies: those saved asleep are put back to sleep
-  // as saved (their state is as restore_state left it).
-  for (int i = 0; i < state.bodies_size(); ++i) {
-    const tumble::v1::SavedBody& saved = state.bodies(i);
-    if (!saved.asleep() || world->body_joints(saved.id()).empty()) continue;
-    world->restore_state(saved.id(), world->position(saved.id()), world->orientation(saved.id()),
-                         world->linear_momentum(saved.id()), world->angular_momentum(saved.id()), false,
-                         saved.sleep_time());
-  }
 
   for (int i = 0; i < state.loads_size(); ++i) {
     const tumble::v1::SavedLoad& saved = state.loads(i);

@@ -399,6 +399,25 @@ TEST(JointState, ARestoredWorldContinuesBitIdentically) {
   EXPECT_EQ(outcome(restored.request(remove_joint("spring"))), "ack") << "the names come back too";
 }
 
+TEST(JointState, BodiesSavedAsleepOnTheirJointsRestoreAsleep) {
+  // A rope from the world to a ball resting on the floor, run until the
+  // ball sleeps.
+  Driver original(make_sim(R"({"gravity": [0, -9.81, 0], "bodies": [
+      {"name": "floor", "static": true, "shape": {"plane": {"normal": [0, 1, 0], "offset": 0}}},
+      {"name": "ball", "shape": {"sphere": {"radius": 0.25}}, "mass": 1, "position": [0, 0.25, 0]}],
+    "joints": [{"name": "rope", "type": "distance", "body_a": "world", "body_b": "ball",
+                "anchor_a": [0, 1.25, 0], "anchor_b": [0, 0.25, 0], "min_length": 0, "max_length": 2}]})"));
+  const physics::BodyId ball = original.world().body_id_at(1);
+  for (int i = 0; i < 20 && original.world().is_awake(ball); ++i) original.run(60);
+  ASSERT_FALSE(original.world().is_awake(ball));
+  tumble::v1::WorldState state;
+  original.sim().capture(&state);
+  std::unique_ptr<Simulation> restored_sim;
+  const Status status = Simulation::create_from_state(state, SimConfig{}, &restored_sim);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_FALSE(restored_sim->world().is_awake(ball));
+}
+
 TEST(JointState, DamagedJointsAreRefused) {
   Driver original(make_sim(scene_with(kJoints)));
   tumble::v1::WorldState good;

@@ -4,7 +4,7 @@
 // whose x axis is the joint's axis (the hinge's or slider's axis, the ball
 // joint's cone axis). Frames are given in body coordinates, relative to the
 // centre of mass; a frame on the world is in world coordinates.
-// World::joint_frames_at builds them from world anchors and a world axis at
+// World::set_joint_frames builds them from world anchors and a world axis at
 // the bodies' current poses, as a scene file gives them.
 //
 // Types, and the relative motion each leaves free:

@@ -179,7 +179,9 @@ class World {
   // (asserted); it wakes both bodies, and unless desc.collide_connected the
   // two stop colliding. remove_body removes the body's joints too.
   JointId add_joint(const JointDesc& desc);
-  // Restoring a saved world: as add_body_with_id, for joints.
+  // Restoring a saved world: as add_joint under a given id (as
+  // add_body_with_id), but it wakes neither body, so bodies restored asleep
+  // stay asleep.
   JointId add_joint_with_id(const JointDesc& desc, JointId id);
   JointId next_joint_id() const;
   void set_next_joint_id(JointId next);
