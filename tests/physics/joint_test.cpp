@@ -221,7 +221,9 @@ TEST(JointTest, AHingeMotorHoldsItsSpeedUnderLoadWithinItsTorque) {
     flap.world.step(kTick);
     const JointState state = flap.world.joint_state(flap.hinge);
     EXPECT_LE(std::abs(state.motor_impulse), motor.max_force * kTick * (1 + 1e-9));
-    if (i >= 60) EXPECT_NEAR(state.speed, 1.0, 0.02) << "step " << i;
+    if (i >= 60) {
+      EXPECT_NEAR(state.speed, 1.0, 0.02) << "step " << i;
+    }
   }
 }
 
