@@ -36,6 +36,7 @@ STEP_END_RESUME: StepEnd
 STEP_END_UNSPECIFIED: StepEnd
 UNAUTHENTICATED: ErrorCode
 UNKNOWN_BODY: ErrorCode
+UNKNOWN_JOINT: ErrorCode
 UNKNOWN_MESSAGE: ErrorCode
 UNKNOWN_SUBSCRIPTION: ErrorCode
 UNSUPPORTED_VERSION: ErrorCode
@@ -44,24 +45,35 @@ WORLD_EVENT_BODY_AWAKE: WorldEventKind
 WORLD_EVENT_BODY_DIVERGED: WorldEventKind
 WORLD_EVENT_BODY_REMOVED: WorldEventKind
 WORLD_EVENT_BODY_SPAWNED: WorldEventKind
+WORLD_EVENT_JOINT_ADDED: WorldEventKind
+WORLD_EVENT_JOINT_BROKEN: WorldEventKind
+WORLD_EVENT_JOINT_REMOVED: WorldEventKind
 WORLD_EVENT_KIND_UNSPECIFIED: WorldEventKind
 WORLD_EVENT_WORLD_RESET: WorldEventKind
 
 class Ack(_message.Message):
-    __slots__ = ["applied_tick", "body_id", "frame", "request_id", "step_ended_by", "step_ticks_left"]
+    __slots__ = ["applied_tick", "body_id", "frame", "joint_id", "request_id", "step_ended_by", "step_ticks_left"]
     APPLIED_TICK_FIELD_NUMBER: _ClassVar[int]
     BODY_ID_FIELD_NUMBER: _ClassVar[int]
     FRAME_FIELD_NUMBER: _ClassVar[int]
+    JOINT_ID_FIELD_NUMBER: _ClassVar[int]
     REQUEST_ID_FIELD_NUMBER: _ClassVar[int]
     STEP_ENDED_BY_FIELD_NUMBER: _ClassVar[int]
     STEP_TICKS_LEFT_FIELD_NUMBER: _ClassVar[int]
     applied_tick: int
     body_id: int
     frame: PoseFrame
+    joint_id: int
     request_id: int
     step_ended_by: StepEnd
     step_ticks_left: int
-    def __init__(self, request_id: _Optional[int] = ..., applied_tick: _Optional[int] = ..., body_id: _Optional[int] = ..., step_ticks_left: _Optional[int] = ..., step_ended_by: _Optional[_Union[StepEnd, str]] = ..., frame: _Optional[_Union[PoseFrame, _Mapping]] = ...) -> None: ...
+    def __init__(self, request_id: _Optional[int] = ..., applied_tick: _Optional[int] = ..., body_id: _Optional[int] = ..., step_ticks_left: _Optional[int] = ..., step_ended_by: _Optional[_Union[StepEnd, str]] = ..., joint_id: _Optional[int] = ..., frame: _Optional[_Union[PoseFrame, _Mapping]] = ...) -> None: ...
+
+class AddJoint(_message.Message):
+    __slots__ = ["joint"]
+    JOINT_FIELD_NUMBER: _ClassVar[int]
+    joint: _scene_pb2.JointSpec
+    def __init__(self, joint: _Optional[_Union[_scene_pb2.JointSpec, _Mapping]] = ...) -> None: ...
 
 class ApplyForce(_message.Message):
     __slots__ = ["body", "force", "persistent", "point", "point_frame", "seconds", "ticks"]
@@ -184,7 +196,8 @@ class ClearForces(_message.Message):
     def __init__(self, body: _Optional[_Union[BodyRef, _Mapping]] = ...) -> None: ...
 
 class ClientMessage(_message.Message):
-    __slots__ = ["apply_force", "apply_impulse", "apply_torque", "clear_forces", "get_stats", "hello", "key_frame_request", "list_bodies", "pause", "remove_body", "request_id", "reset", "resume", "set_body_state", "set_tick_rate", "spawn_body", "step", "subscribe", "unsubscribe"]
+    __slots__ = ["add_joint", "apply_force", "apply_impulse", "apply_torque", "clear_forces", "get_stats", "hello", "key_frame_request", "list_bodies", "list_joints", "pause", "remove_body", "remove_joint", "request_id", "reset", "resume", "set_body_state", "set_joint_motor", "set_tick_rate", "spawn_body", "step", "subscribe", "unsubscribe"]
+    ADD_JOINT_FIELD_NUMBER: _ClassVar[int]
     APPLY_FORCE_FIELD_NUMBER: _ClassVar[int]
     APPLY_IMPULSE_FIELD_NUMBER: _ClassVar[int]
     APPLY_TORQUE_FIELD_NUMBER: _ClassVar[int]
@@ -193,17 +206,21 @@ class ClientMessage(_message.Message):
     HELLO_FIELD_NUMBER: _ClassVar[int]
     KEY_FRAME_REQUEST_FIELD_NUMBER: _ClassVar[int]
     LIST_BODIES_FIELD_NUMBER: _ClassVar[int]
+    LIST_JOINTS_FIELD_NUMBER: _ClassVar[int]
     PAUSE_FIELD_NUMBER: _ClassVar[int]
     REMOVE_BODY_FIELD_NUMBER: _ClassVar[int]
+    REMOVE_JOINT_FIELD_NUMBER: _ClassVar[int]
     REQUEST_ID_FIELD_NUMBER: _ClassVar[int]
     RESET_FIELD_NUMBER: _ClassVar[int]
     RESUME_FIELD_NUMBER: _ClassVar[int]
     SET_BODY_STATE_FIELD_NUMBER: _ClassVar[int]
+    SET_JOINT_MOTOR_FIELD_NUMBER: _ClassVar[int]
     SET_TICK_RATE_FIELD_NUMBER: _ClassVar[int]
     SPAWN_BODY_FIELD_NUMBER: _ClassVar[int]
     STEP_FIELD_NUMBER: _ClassVar[int]
     SUBSCRIBE_FIELD_NUMBER: _ClassVar[int]
     UNSUBSCRIBE_FIELD_NUMBER: _ClassVar[int]
+    add_joint: AddJoint
     apply_force: ApplyForce
     apply_impulse: ApplyImpulse
     apply_torque: ApplyTorque
@@ -212,18 +229,21 @@ class ClientMessage(_message.Message):
     hello: Hello
     key_frame_request: KeyFrameRequest
     list_bodies: ListBodies
+    list_joints: ListJoints
     pause: Pause
     remove_body: RemoveBody
+    remove_joint: RemoveJoint
     request_id: int
     reset: Reset
     resume: Resume
     set_body_state: SetBodyState
+    set_joint_motor: SetJointMotor
     set_tick_rate: SetTickRate
     spawn_body: SpawnBody
     step: Step
     subscribe: Subscribe
     unsubscribe: Unsubscribe
-    def __init__(self, request_id: _Optional[int] = ..., hello: _Optional[_Union[Hello, _Mapping]] = ..., apply_force: _Optional[_Union[ApplyForce, _Mapping]] = ..., apply_torque: _Optional[_Union[ApplyTorque, _Mapping]] = ..., apply_impulse: _Optional[_Union[ApplyImpulse, _Mapping]] = ..., list_bodies: _Optional[_Union[ListBodies, _Mapping]] = ..., subscribe: _Optional[_Union[Subscribe, _Mapping]] = ..., unsubscribe: _Optional[_Union[Unsubscribe, _Mapping]] = ..., spawn_body: _Optional[_Union[SpawnBody, _Mapping]] = ..., remove_body: _Optional[_Union[RemoveBody, _Mapping]] = ..., set_body_state: _Optional[_Union[SetBodyState, _Mapping]] = ..., clear_forces: _Optional[_Union[ClearForces, _Mapping]] = ..., pause: _Optional[_Union[Pause, _Mapping]] = ..., resume: _Optional[_Union[Resume, _Mapping]] = ..., step: _Optional[_Union[Step, _Mapping]] = ..., reset: _Optional[_Union[Reset, _Mapping]] = ..., set_tick_rate: _Optional[_Union[SetTickRate, _Mapping]] = ..., get_stats: _Optional[_Union[GetStats, _Mapping]] = ..., key_frame_request: _Optional[_Union[KeyFrameRequest, _Mapping]] = ...) -> None: ...
+    def __init__(self, request_id: _Optional[int] = ..., hello: _Optional[_Union[Hello, _Mapping]] = ..., apply_force: _Optional[_Union[ApplyForce, _Mapping]] = ..., apply_torque: _Optional[_Union[ApplyTorque, _Mapping]] = ..., apply_impulse: _Optional[_Union[ApplyImpulse, _Mapping]] = ..., list_bodies: _Optional[_Union[ListBodies, _Mapping]] = ..., subscribe: _Optional[_Union[Subscribe, _Mapping]] = ..., unsubscribe: _Optional[_Union[Unsubscribe, _Mapping]] = ..., spawn_body: _Optional[_Union[SpawnBody, _Mapping]] = ..., remove_body: _Optional[_Union[RemoveBody, _Mapping]] = ..., set_body_state: _Optional[_Union[SetBodyState, _Mapping]] = ..., clear_forces: _Optional[_Union[ClearForces, _Mapping]] = ..., pause: _Optional[_Union[Pause, _Mapping]] = ..., resume: _Optional[_Union[Resume, _Mapping]] = ..., step: _Optional[_Union[Step, _Mapping]] = ..., reset: _Optional[_Union[Reset, _Mapping]] = ..., set_tick_rate: _Optional[_Union[SetTickRate, _Mapping]] = ..., get_stats: _Optional[_Union[GetStats, _Mapping]] = ..., key_frame_request: _Optional[_Union[KeyFrameRequest, _Mapping]] = ..., add_joint: _Optional[_Union[AddJoint, _Mapping]] = ..., remove_joint: _Optional[_Union[RemoveJoint, _Mapping]] = ..., set_joint_motor: _Optional[_Union[SetJointMotor, _Mapping]] = ..., list_joints: _Optional[_Union[ListJoints, _Mapping]] = ...) -> None: ...
 
 class Error(_message.Message):
     __slots__ = ["code", "message", "request_id"]
@@ -249,6 +269,90 @@ class Hello(_message.Message):
     token: str
     def __init__(self, protocol_version: _Optional[int] = ..., client_name: _Optional[str] = ..., token: _Optional[str] = ...) -> None: ...
 
+class JointInfo(_message.Message):
+    __slots__ = ["anchor_a", "anchor_b", "axis", "body_a", "body_a_name", "body_b", "body_b_name", "break_force", "break_torque", "collide_connected", "cone_limit", "id", "length", "limits", "max_length", "min_length", "motor", "name", "spring", "state", "type"]
+    ANCHOR_A_FIELD_NUMBER: _ClassVar[int]
+    ANCHOR_B_FIELD_NUMBER: _ClassVar[int]
+    AXIS_FIELD_NUMBER: _ClassVar[int]
+    BODY_A_FIELD_NUMBER: _ClassVar[int]
+    BODY_A_NAME_FIELD_NUMBER: _ClassVar[int]
+    BODY_B_FIELD_NUMBER: _ClassVar[int]
+    BODY_B_NAME_FIELD_NUMBER: _ClassVar[int]
+    BREAK_FORCE_FIELD_NUMBER: _ClassVar[int]
+    BREAK_TORQUE_FIELD_NUMBER: _ClassVar[int]
+    COLLIDE_CONNECTED_FIELD_NUMBER: _ClassVar[int]
+    CONE_LIMIT_FIELD_NUMBER: _ClassVar[int]
+    ID_FIELD_NUMBER: _ClassVar[int]
+    LENGTH_FIELD_NUMBER: _ClassVar[int]
+    LIMITS_FIELD_NUMBER: _ClassVar[int]
+    MAX_LENGTH_FIELD_NUMBER: _ClassVar[int]
+    MIN_LENGTH_FIELD_NUMBER: _ClassVar[int]
+    MOTOR_FIELD_NUMBER: _ClassVar[int]
+    NAME_FIELD_NUMBER: _ClassVar[int]
+    SPRING_FIELD_NUMBER: _ClassVar[int]
+    STATE_FIELD_NUMBER: _ClassVar[int]
+    TYPE_FIELD_NUMBER: _ClassVar[int]
+    anchor_a: _types_pb2.Vec3
+    anchor_b: _types_pb2.Vec3
+    axis: _types_pb2.Vec3
+    body_a: int
+    body_a_name: str
+    body_b: int
+    body_b_name: str
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    cone_limit: float
+    id: int
+    length: float
+    limits: _scene_pb2.JointLimits
+    max_length: float
+    min_length: float
+    motor: _scene_pb2.JointMotorSpec
+    name: str
+    spring: _scene_pb2.JointSpring
+    state: JointState
+    type: _scene_pb2.JointType
+    def __init__(self, id: _Optional[int] = ..., name: _Optional[str] = ..., type: _Optional[_Union[_scene_pb2.JointType, str]] = ..., body_a: _Optional[int] = ..., body_a_name: _Optional[str] = ..., body_b: _Optional[int] = ..., body_b_name: _Optional[str] = ..., anchor_a: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., anchor_b: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., axis: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., limits: _Optional[_Union[_scene_pb2.JointLimits, _Mapping]] = ..., cone_limit: _Optional[float] = ..., length: _Optional[float] = ..., min_length: _Optional[float] = ..., max_length: _Optional[float] = ..., spring: _Optional[_Union[_scene_pb2.JointSpring, _Mapping]] = ..., motor: _Optional[_Union[_scene_pb2.JointMotorSpec, _Mapping]] = ..., break_force: _Optional[float] = ..., break_torque: _Optional[float] = ..., collide_connected: bool = ..., state: _Optional[_Union[JointState, _Mapping]] = ...) -> None: ...
+
+class JointList(_message.Message):
+    __slots__ = ["joints", "next_start_id", "request_id", "tick", "total_joints"]
+    JOINTS_FIELD_NUMBER: _ClassVar[int]
+    NEXT_START_ID_FIELD_NUMBER: _ClassVar[int]
+    REQUEST_ID_FIELD_NUMBER: _ClassVar[int]
+    TICK_FIELD_NUMBER: _ClassVar[int]
+    TOTAL_JOINTS_FIELD_NUMBER: _ClassVar[int]
+    joints: _containers.RepeatedCompositeFieldContainer[JointInfo]
+    next_start_id: int
+    request_id: int
+    tick: int
+    total_joints: int
+    def __init__(self, request_id: _Optional[int] = ..., tick: _Optional[int] = ..., joints: _Optional[_Iterable[_Union[JointInfo, _Mapping]]] = ..., next_start_id: _Optional[int] = ..., total_joints: _Optional[int] = ...) -> None: ...
+
+class JointRef(_message.Message):
+    __slots__ = ["id", "name"]
+    ID_FIELD_NUMBER: _ClassVar[int]
+    NAME_FIELD_NUMBER: _ClassVar[int]
+    id: int
+    name: str
+    def __init__(self, id: _Optional[int] = ..., name: _Optional[str] = ...) -> None: ...
+
+class JointState(_message.Message):
+    __slots__ = ["force", "id", "motor_impulse", "position", "speed", "torque"]
+    FORCE_FIELD_NUMBER: _ClassVar[int]
+    ID_FIELD_NUMBER: _ClassVar[int]
+    MOTOR_IMPULSE_FIELD_NUMBER: _ClassVar[int]
+    POSITION_FIELD_NUMBER: _ClassVar[int]
+    SPEED_FIELD_NUMBER: _ClassVar[int]
+    TORQUE_FIELD_NUMBER: _ClassVar[int]
+    force: _types_pb2.Vec3
+    id: int
+    motor_impulse: float
+    position: float
+    speed: float
+    torque: _types_pb2.Vec3
+    def __init__(self, id: _Optional[int] = ..., position: _Optional[float] = ..., speed: _Optional[float] = ..., force: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., torque: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., motor_impulse: _Optional[float] = ...) -> None: ...
+
 class KeyFrameRequest(_message.Message):
     __slots__ = ["subscription_id"]
     SUBSCRIPTION_ID_FIELD_NUMBER: _ClassVar[int]
@@ -262,6 +366,14 @@ class ListBodies(_message.Message):
     max_bodies: int
     start_id: int
     def __init__(self, start_id: _Optional[int] = ..., max_bodies: _Optional[int] = ...) -> None: ...
+
+class ListJoints(_message.Message):
+    __slots__ = ["max_joints", "start_id"]
+    MAX_JOINTS_FIELD_NUMBER: _ClassVar[int]
+    START_ID_FIELD_NUMBER: _ClassVar[int]
+    max_joints: int
+    start_id: int
+    def __init__(self, start_id: _Optional[int] = ..., max_joints: _Optional[int] = ...) -> None: ...
 
 class NatsLink(_message.Message):
     __slots__ = ["bytes_out", "connected", "frames_dropped", "messages_out", "reconnects", "requests_in", "server_url", "world"]
@@ -325,6 +437,12 @@ class RemoveBody(_message.Message):
     body: BodyRef
     def __init__(self, body: _Optional[_Union[BodyRef, _Mapping]] = ...) -> None: ...
 
+class RemoveJoint(_message.Message):
+    __slots__ = ["joint"]
+    JOINT_FIELD_NUMBER: _ClassVar[int]
+    joint: JointRef
+    def __init__(self, joint: _Optional[_Union[JointRef, _Mapping]] = ...) -> None: ...
+
 class Reset(_message.Message):
     __slots__ = []
     def __init__(self) -> None: ...
@@ -334,10 +452,11 @@ class Resume(_message.Message):
     def __init__(self) -> None: ...
 
 class ServerMessage(_message.Message):
-    __slots__ = ["ack", "body_list", "error", "pose_frame", "stats", "subscribed", "welcome", "world_event"]
+    __slots__ = ["ack", "body_list", "error", "joint_list", "pose_frame", "stats", "subscribed", "welcome", "world_event"]
     ACK_FIELD_NUMBER: _ClassVar[int]
     BODY_LIST_FIELD_NUMBER: _ClassVar[int]
     ERROR_FIELD_NUMBER: _ClassVar[int]
+    JOINT_LIST_FIELD_NUMBER: _ClassVar[int]
     POSE_FRAME_FIELD_NUMBER: _ClassVar[int]
     STATS_FIELD_NUMBER: _ClassVar[int]
     SUBSCRIBED_FIELD_NUMBER: _ClassVar[int]
@@ -346,12 +465,13 @@ class ServerMessage(_message.Message):
     ack: Ack
     body_list: BodyList
     error: Error
+    joint_list: JointList
     pose_frame: PoseFrame
     stats: Stats
     subscribed: Subscribed
     welcome: Welcome
     world_event: WorldEvent
-    def __init__(self, welcome: _Optional[_Union[Welcome, _Mapping]] = ..., ack: _Optional[_Union[Ack, _Mapping]] = ..., error: _Optional[_Union[Error, _Mapping]] = ..., body_list: _Optional[_Union[BodyList, _Mapping]] = ..., subscribed: _Optional[_Union[Subscribed, _Mapping]] = ..., pose_frame: _Optional[_Union[PoseFrame, _Mapping]] = ..., stats: _Optional[_Union[Stats, _Mapping]] = ..., world_event: _Optional[_Union[WorldEvent, _Mapping]] = ...) -> None: ...
+    def __init__(self, welcome: _Optional[_Union[Welcome, _Mapping]] = ..., ack: _Optional[_Union[Ack, _Mapping]] = ..., error: _Optional[_Union[Error, _Mapping]] = ..., body_list: _Optional[_Union[BodyList, _Mapping]] = ..., subscribed: _Optional[_Union[Subscribed, _Mapping]] = ..., pose_frame: _Optional[_Union[PoseFrame, _Mapping]] = ..., stats: _Optional[_Union[Stats, _Mapping]] = ..., world_event: _Optional[_Union[WorldEvent, _Mapping]] = ..., joint_list: _Optional[_Union[JointList, _Mapping]] = ...) -> None: ...
 
 class SetBodyState(_message.Message):
     __slots__ = ["angular_velocity", "body", "linear_velocity", "orientation", "position"]
@@ -366,6 +486,14 @@ class SetBodyState(_message.Message):
     orientation: _types_pb2.Quat
     position: _types_pb2.Vec3
     def __init__(self, body: _Optional[_Union[BodyRef, _Mapping]] = ..., position: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., orientation: _Optional[_Union[_types_pb2.Quat, _Mapping]] = ..., linear_velocity: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., angular_velocity: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ...) -> None: ...
+
+class SetJointMotor(_message.Message):
+    __slots__ = ["joint", "motor"]
+    JOINT_FIELD_NUMBER: _ClassVar[int]
+    MOTOR_FIELD_NUMBER: _ClassVar[int]
+    joint: JointRef
+    motor: _scene_pb2.JointMotorSpec
+    def __init__(self, joint: _Optional[_Union[JointRef, _Mapping]] = ..., motor: _Optional[_Union[_scene_pb2.JointMotorSpec, _Mapping]] = ...) -> None: ...
 
 class SetTickRate(_message.Message):
     __slots__ = ["rate_hz"]
@@ -500,18 +628,24 @@ class Welcome(_message.Message):
     def __init__(self, protocol_version: _Optional[int] = ..., server_version: _Optional[str] = ..., tick_rate_hz: _Optional[float] = ..., tick: _Optional[int] = ..., sim_time: _Optional[float] = ..., body_count: _Optional[int] = ..., role: _Optional[_Union[Role, str]] = ...) -> None: ...
 
 class WorldEvent(_message.Message):
-    __slots__ = ["body_id", "body_name", "kind", "subscription_id", "tick"]
+    __slots__ = ["body_id", "body_name", "joint_body_a", "joint_id", "joint_name", "kind", "subscription_id", "tick"]
     BODY_ID_FIELD_NUMBER: _ClassVar[int]
     BODY_NAME_FIELD_NUMBER: _ClassVar[int]
+    JOINT_BODY_A_FIELD_NUMBER: _ClassVar[int]
+    JOINT_ID_FIELD_NUMBER: _ClassVar[int]
+    JOINT_NAME_FIELD_NUMBER: _ClassVar[int]
     KIND_FIELD_NUMBER: _ClassVar[int]
     SUBSCRIPTION_ID_FIELD_NUMBER: _ClassVar[int]
     TICK_FIELD_NUMBER: _ClassVar[int]
     body_id: int
     body_name: str
+    joint_body_a: int
+    joint_id: int
+    joint_name: str
     kind: WorldEventKind
     subscription_id: int
     tick: int
-    def __init__(self, subscription_id: _Optional[int] = ..., tick: _Optional[int] = ..., kind: _Optional[_Union[WorldEventKind, str]] = ..., body_id: _Optional[int] = ..., body_name: _Optional[str] = ...) -> None: ...
+    def __init__(self, subscription_id: _Optional[int] = ..., tick: _Optional[int] = ..., kind: _Optional[_Union[WorldEventKind, str]] = ..., body_id: _Optional[int] = ..., body_name: _Optional[str] = ..., joint_id: _Optional[int] = ..., joint_name: _Optional[str] = ..., joint_body_a: _Optional[int] = ...) -> None: ...
 
 class ProtocolVersion(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
     __slots__ = []

@@ -6,6 +6,12 @@ from google.protobuf import message as _message
 from typing import ClassVar as _ClassVar, Iterable as _Iterable, Mapping as _Mapping, Optional as _Optional, Union as _Union
 
 DESCRIPTOR: _descriptor.FileDescriptor
+JOINT_TYPE_BALL: JointType
+JOINT_TYPE_DISTANCE: JointType
+JOINT_TYPE_FIXED: JointType
+JOINT_TYPE_HINGE: JointType
+JOINT_TYPE_SLIDER: JointType
+JOINT_TYPE_UNSPECIFIED: JointType
 MOTION_DYNAMIC: Motion
 MOTION_KINEMATIC: Motion
 MOTION_STATIC: Motion
@@ -54,6 +60,76 @@ class Convex(_message.Message):
     points: _containers.RepeatedCompositeFieldContainer[_types_pb2.Vec3]
     def __init__(self, points: _Optional[_Iterable[_Union[_types_pb2.Vec3, _Mapping]]] = ...) -> None: ...
 
+class JointLimits(_message.Message):
+    __slots__ = ["lower", "upper"]
+    LOWER_FIELD_NUMBER: _ClassVar[int]
+    UPPER_FIELD_NUMBER: _ClassVar[int]
+    lower: float
+    upper: float
+    def __init__(self, lower: _Optional[float] = ..., upper: _Optional[float] = ...) -> None: ...
+
+class JointMotorSpec(_message.Message):
+    __slots__ = ["damping_ratio", "hertz", "max_force", "max_torque", "position", "speed"]
+    DAMPING_RATIO_FIELD_NUMBER: _ClassVar[int]
+    HERTZ_FIELD_NUMBER: _ClassVar[int]
+    MAX_FORCE_FIELD_NUMBER: _ClassVar[int]
+    MAX_TORQUE_FIELD_NUMBER: _ClassVar[int]
+    POSITION_FIELD_NUMBER: _ClassVar[int]
+    SPEED_FIELD_NUMBER: _ClassVar[int]
+    damping_ratio: float
+    hertz: float
+    max_force: float
+    max_torque: float
+    position: float
+    speed: float
+    def __init__(self, speed: _Optional[float] = ..., position: _Optional[float] = ..., hertz: _Optional[float] = ..., damping_ratio: _Optional[float] = ..., max_torque: _Optional[float] = ..., max_force: _Optional[float] = ...) -> None: ...
+
+class JointSpec(_message.Message):
+    __slots__ = ["anchor", "anchor_b", "axis", "body_a", "body_b", "break_force", "break_torque", "collide_connected", "cone_limit", "length", "limits", "max_length", "min_length", "motor", "name", "spring", "type"]
+    ANCHOR_B_FIELD_NUMBER: _ClassVar[int]
+    ANCHOR_FIELD_NUMBER: _ClassVar[int]
+    AXIS_FIELD_NUMBER: _ClassVar[int]
+    BODY_A_FIELD_NUMBER: _ClassVar[int]
+    BODY_B_FIELD_NUMBER: _ClassVar[int]
+    BREAK_FORCE_FIELD_NUMBER: _ClassVar[int]
+    BREAK_TORQUE_FIELD_NUMBER: _ClassVar[int]
+    COLLIDE_CONNECTED_FIELD_NUMBER: _ClassVar[int]
+    CONE_LIMIT_FIELD_NUMBER: _ClassVar[int]
+    LENGTH_FIELD_NUMBER: _ClassVar[int]
+    LIMITS_FIELD_NUMBER: _ClassVar[int]
+    MAX_LENGTH_FIELD_NUMBER: _ClassVar[int]
+    MIN_LENGTH_FIELD_NUMBER: _ClassVar[int]
+    MOTOR_FIELD_NUMBER: _ClassVar[int]
+    NAME_FIELD_NUMBER: _ClassVar[int]
+    SPRING_FIELD_NUMBER: _ClassVar[int]
+    TYPE_FIELD_NUMBER: _ClassVar[int]
+    anchor: _types_pb2.Vec3
+    anchor_b: _types_pb2.Vec3
+    axis: _types_pb2.Vec3
+    body_a: str
+    body_b: str
+    break_force: float
+    break_torque: float
+    collide_connected: bool
+    cone_limit: float
+    length: float
+    limits: JointLimits
+    max_length: float
+    min_length: float
+    motor: JointMotorSpec
+    name: str
+    spring: JointSpring
+    type: JointType
+    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[JointType, str]] = ..., body_a: _Optional[str] = ..., body_b: _Optional[str] = ..., anchor: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., anchor_b: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., axis: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., limits: _Optional[_Union[JointLimits, _Mapping]] = ..., cone_limit: _Optional[float] = ..., length: _Optional[float] = ..., min_length: _Optional[float] = ..., max_length: _Optional[float] = ..., spring: _Optional[_Union[JointSpring, _Mapping]] = ..., motor: _Optional[_Union[JointMotorSpec, _Mapping]] = ..., break_force: _Optional[float] = ..., break_torque: _Optional[float] = ..., collide_connected: bool = ...) -> None: ...
+
+class JointSpring(_message.Message):
+    __slots__ = ["damping_ratio", "hertz"]
+    DAMPING_RATIO_FIELD_NUMBER: _ClassVar[int]
+    HERTZ_FIELD_NUMBER: _ClassVar[int]
+    damping_ratio: float
+    hertz: float
+    def __init__(self, hertz: _Optional[float] = ..., damping_ratio: _Optional[float] = ...) -> None: ...
+
 class Plane(_message.Message):
     __slots__ = ["normal", "offset"]
     NORMAL_FIELD_NUMBER: _ClassVar[int]
@@ -71,12 +147,14 @@ class PointMasses(_message.Message):
     def __init__(self, masses: _Optional[_Iterable[float]] = ..., positions: _Optional[_Iterable[_Union[_types_pb2.Vec3, _Mapping]]] = ...) -> None: ...
 
 class Scene(_message.Message):
-    __slots__ = ["bodies", "gravity"]
+    __slots__ = ["bodies", "gravity", "joints"]
     BODIES_FIELD_NUMBER: _ClassVar[int]
     GRAVITY_FIELD_NUMBER: _ClassVar[int]
+    JOINTS_FIELD_NUMBER: _ClassVar[int]
     bodies: _containers.RepeatedCompositeFieldContainer[BodySpec]
     gravity: _types_pb2.Vec3
-    def __init__(self, gravity: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., bodies: _Optional[_Iterable[_Union[BodySpec, _Mapping]]] = ...) -> None: ...
+    joints: _containers.RepeatedCompositeFieldContainer[JointSpec]
+    def __init__(self, gravity: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., bodies: _Optional[_Iterable[_Union[BodySpec, _Mapping]]] = ..., joints: _Optional[_Iterable[_Union[JointSpec, _Mapping]]] = ...) -> None: ...
 
 class Shape(_message.Message):
     __slots__ = ["box", "capsule", "convex", "plane", "points", "sphere"]
@@ -101,4 +179,7 @@ class Sphere(_message.Message):
     def __init__(self, radius: _Optional[float] = ...) -> None: ...
 
 class Motion(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
+    __slots__ = []
+
+class JointType(int, metaclass=_enum_type_wrapper.EnumTypeWrapper):
     __slots__ = []
