@@ -90,9 +90,9 @@ struct JointRow {
   // turn little within a step, and the error is measured afresh each pass.
   Mat3 point_mass = Mat3::Zero();
   Mat3 lock_mass = Mat3::Zero();
-  bool frames = true;  // whether a pass needs the frames (not a ball joint without a cone, nor a distance joint)
-  Softness motor_soft;               // a position motor's spring
-  Softness spring_soft;              // a distance joint's spring
+  bool frames = true;    // whether a pass needs the frames (not a ball joint without a cone, nor a distance joint)
+  Softness motor_soft;   // a position motor's spring
+  Softness spring_soft;  // a distance joint's spring
   JointImpulses impulses;
   double motor_sum = 0;  // the motor's impulse over the substeps so far
 };

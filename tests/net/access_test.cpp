@@ -68,7 +68,8 @@ TEST(Access, EveryRequestNotOnTheAllowlistIsDeniedToObservers) {
     EXPECT_EQ(role_may(tumble::v1::ROLE_OBSERVER, kind), observer_may(kind)) << oneof->field(i)->name();
     if (observer_may(kind)) allowed.insert(oneof->field(i)->name());
   }
-  std::set<std::string> reads = {"hello", "list_bodies", "list_joints", "subscribe", "unsubscribe", "key_frame_request"};
+  std::set<std::string> reads = {"hello",     "list_bodies", "list_joints",
+                                 "subscribe", "unsubscribe", "key_frame_request"};
   if (oneof->containing_type()->FindFieldByName("get_stats") != nullptr) reads.insert("get_stats");
   EXPECT_EQ(allowed, reads);
 }
