@@ -48,6 +48,28 @@ Status check_takes(bool present, bool allowed, JointType type, const std::string
 
 }  // namespace
 
+bool physics_joint_type(tumble::v1::JointType type, physics::JointType* out) {
+  switch (type) {
+    case tumble::v1::JOINT_TYPE_BALL:
+      *out = physics::JointType::ball;
+      return true;
+    case tumble::v1::JOINT_TYPE_HINGE:
+      *out = physics::JointType::hinge;
+      return true;
+    case tumble::v1::JOINT_TYPE_SLIDER:
+      *out = physics::JointType::slider;
+      return true;
+    case tumble::v1::JOINT_TYPE_FIXED:
+      *out = physics::JointType::fixed;
+      return true;
+    case tumble::v1::JOINT_TYPE_DISTANCE:
+      *out = physics::JointType::distance;
+      return true;
+    default:
+      return false;
+  }
+}
+
 const char* joint_type_name(JointType type) {
   switch (type) {
     case tumble::v1::JOINT_TYPE_BALL:
@@ -282,23 +304,8 @@ Status joint_desc_from_spec(const JointSpec& spec, const std::string& where, con
                          ", body_a too; a joint joins two different bodies");
   }
 
-  switch (spec.type()) {
-    case tumble::v1::JOINT_TYPE_BALL:
-      desc->type = physics::JointType::ball;
-      break;
-    case tumble::v1::JOINT_TYPE_HINGE:
-      desc->type = physics::JointType::hinge;
-      break;
-    case tumble::v1::JOINT_TYPE_SLIDER:
-      desc->type = physics::JointType::slider;
-      break;
-    case tumble::v1::JOINT_TYPE_FIXED:
-      desc->type = physics::JointType::fixed;
-      break;
-    default:
-      desc->type = physics::JointType::distance;
-      break;
-  }
+  // check_joint_spec has refused the types that map to none.
+  physics_joint_type(spec.type(), &desc->type);
   const physics::Vec3 centre_b = world.position(desc->body_b);
   const physics::Vec3 anchor_a = spec.has_anchor() ? to_vec3(spec.anchor()) : centre_b;
   const physics::Vec3 anchor_b = spec.has_anchor_b() ? to_vec3(spec.anchor_b()) : anchor_a;

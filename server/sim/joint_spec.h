@@ -30,6 +30,10 @@ inline constexpr std::string_view kWorldBodyName = "world";
 const char* joint_type_name(tumble::v1::JointType type);
 // The type `name` stands for; JOINT_TYPE_UNSPECIFIED for none.
 tumble::v1::JointType joint_type_named(std::string_view name);
+
+// The engine's joint type of a protocol type, and back; false for
+// UNSPECIFIED or a value no type has.
+bool physics_joint_type(tumble::v1::JointType type, physics::JointType* out);
 tumble::v1::JointType wire_joint_type(physics::JointType type);
 
 // What can be judged of `spec` without the world: a known type, a name

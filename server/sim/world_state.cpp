@@ -101,24 +101,8 @@ void save_joint(const physics::World& world, const JointDirectory& joints, physi
 // unit frame rotations, finite impulses. `where` names it, e.g. "joints[1]".
 Status joint_from_saved(const tumble::v1::SavedJoint& saved, const std::string& where, physics::JointDesc* desc,
                         physics::JointImpulses* impulses) {
-  switch (saved.type()) {
-    case tumble::v1::JOINT_TYPE_BALL:
-      desc->type = physics::JointType::ball;
-      break;
-    case tumble::v1::JOINT_TYPE_HINGE:
-      desc->type = physics::JointType::hinge;
-      break;
-    case tumble::v1::JOINT_TYPE_SLIDER:
-      desc->type = physics::JointType::slider;
-      break;
-    case tumble::v1::JOINT_TYPE_FIXED:
-      desc->type = physics::JointType::fixed;
-      break;
-    case tumble::v1::JOINT_TYPE_DISTANCE:
-      desc->type = physics::JointType::distance;
-      break;
-    default:
-      return Status::error(where + ".type: " + std::to_string(saved.type()) + " is no type of joint");
+  if (!physics_joint_type(saved.type(), &desc->type)) {
+    return Status::error(where + ".type: " + std::to_string(saved.type()) + " is no type of joint");
   }
   if (saved.motor_mode() > static_cast<std::uint32_t>(physics::JointMotor::Mode::position)) {
     return Status::error(where + ".motor_mode: " + std::to_string(saved.motor_mode()) + " is no motor mode");
