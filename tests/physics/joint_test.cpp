@@ -198,6 +198,79 @@ struct Flap {
   }
 };
 
+// A ragdoll of 11 boxes standing at `base` (feet on it), facing +z: ball
+// joints with cones at the spine, neck, shoulders and hips, hinges with
+// limits at the elbows and knees. Returns its joints.
+std::vector<JointId> add_ragdoll(World& world, const Vec3& base) {
+  std::vector<JointId> joints;
+  auto part = [&](const Vec3& center, const Vec3& half, double mass) {
+    BodyDesc desc;
+    desc.shape = box_shape(half);
+    desc.mass_properties = box_mass_properties(mass, half);
+    desc.position = base + center;
+    return world.add_body(desc);
+  };
+  auto join = [&](JointType type, BodyId a, BodyId b, const Vec3& anchor, const Vec3& axis) {
+    JointDesc desc = joint_at(world, type, a, b, base + anchor, axis);
+    if (type == JointType::ball) desc.cone_limit = 0.8;
+    if (type == JointType::hinge) {
+      desc.limits_enabled = true;
+      desc.lower = 0;
+      desc.upper = 2.4;
+    }
+    joints.push_back(world.add_joint(desc));
+  };
+  const BodyId pelvis = part(Vec3(0, 1.0, 0), Vec3(0.15, 0.1, 0.1), 10);
+  const BodyId torso = part(Vec3(0, 1.35, 0), Vec3(0.18, 0.22, 0.1), 20);
+  const BodyId head = part(Vec3(0, 1.72, 0), Vec3(0.1, 0.1, 0.1), 5);
+  join(JointType::ball, pelvis, torso, Vec3(0, 1.11, 0), Vec3::UnitY());
+  join(JointType::ball, torso, head, Vec3(0, 1.6, 0), Vec3::UnitY());
+  for (double side : {-1.0, 1.0}) {
+    const BodyId upper_arm = part(Vec3(side * 0.35, 1.5, 0), Vec3(0.13, 0.04, 0.04), 2);
+    const BodyId forearm = part(Vec3(side * 0.63, 1.5, 0), Vec3(0.13, 0.035, 0.035), 1.5);
+    join(JointType::ball, torso, upper_arm, Vec3(side * 0.2, 1.5, 0), Vec3(side, 0, 0));
+    join(JointType::hinge, upper_arm, forearm, Vec3(side * 0.49, 1.5, 0), Vec3::UnitY());
+    const BodyId thigh = part(Vec3(side * 0.09, 0.7, 0), Vec3(0.06, 0.18, 0.06), 7);
+    const BodyId shin = part(Vec3(side * 0.09, 0.27, 0), Vec3(0.05, 0.22, 0.05), 4);
+    join(JointType::ball, pelvis, thigh, Vec3(side * 0.09, 0.89, 0), -Vec3::UnitY());
+    join(JointType::hinge, thigh, shin, Vec3(side * 0.09, 0.505, 0), Vec3::UnitX());
+  }
+  return joints;
+}
+
+TEST(JointTest, RagdollsDroppedOnAPileStayWholeAndFallAsleep) {
+  World world;
+  world.add_body(testing::ground_plane());
+  for (int i = 0; i < 9; ++i) world.add_body(box_body(Vec3(0.6 * (i % 3) - 0.6, 0.25, 0.6 * (i / 3) - 0.6), 0.25));
+  std::vector<JointId> joints;
+  for (int i = 0; i < 6; ++i) {
+    // Lying down, across the pile and each other, a little apart.
+    const Vec3 base(0.2 * (i % 2), 0.7 + 0.45 * i, -0.9);
+    const std::size_t first_body = world.body_count();
+    const std::vector<JointId> ragdoll = add_ragdoll(world, base);
+    joints.insert(joints.end(), ragdoll.begin(), ragdoll.end());
+    // Turned onto its back about the x axis through its feet, by a quarter
+    // turn, and about y by a varying angle.
+    const Quat turn =
+        Quat(Eigen::AngleAxisd(0.7 * i, Vec3::UnitY())) * Quat(Eigen::AngleAxisd(-kPi / 2, Vec3::UnitX()));
+    for (std::size_t k = first_body; k < world.body_count(); ++k) {
+      const BodyId id = world.body_id_at(k);
+      world.set_state(id, base + turn * (world.position(id) - base), turn * world.orientation(id), Vec3::Zero(),
+                      Vec3::Zero());
+    }
+  }
+  ASSERT_EQ(joints.size(), 60u);
+  double worst = 0;
+  int step = 0;
+  for (; step < 20 * 240 && world.sleeping_body_count() < world.body_count() - 1; ++step) {
+    world.step(kTick);
+    for (JointId id : joints) worst = std::max(worst, separation(world, id));
+  }
+  EXPECT_LT(worst, 0.01);
+  EXPECT_EQ(world.sleeping_body_count(), world.body_count() - 1) << "the plane never sleeps";
+  EXPECT_LT(step, 20 * 240);
+}
+
 TEST(JointTest, AHingeLimitHoldsALoadedDoor) {
   Flap flap(true, -0.5, 0.5);
   // Gravity's torque about the hinge, m g 1 m, and a push of as much again.
