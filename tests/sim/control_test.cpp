@@ -13,6 +13,7 @@
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 #include "sim/world_state.h"
+#include "sim_driver.h"
 
 namespace tumble::sim {
 namespace {
@@ -103,60 +104,6 @@ ClientMessage step_message(std::uint32_t ticks) {
   message.mutable_step()->set_ticks(ticks);
   return message;
 }
-
-// Drives one Simulation: submits requests as the network layer would
-// (checked first) and runs ticks until their replies are in.
-class Driver {
- public:
-  explicit Driver(std::unique_ptr<Simulation> sim) : sim_(std::move(sim)) {
-    sim_->add_event_listener([this](std::shared_ptr<const WorldEvents> events) {
-      events_.insert(events_.end(), events->begin(), events->end());
-    });
-  }
-
-  Simulation& sim() { return *sim_; }
-  const physics::World& world() { return sim_->world(); }
-  std::vector<WorldEvent>& events() { return events_; }
-
-  // Submits `message`; its reply lands in the returned slot once applied.
-  std::shared_ptr<std::optional<ServerMessage>> submit(ClientMessage message) {
-    message.set_request_id(++request_id_);
-    auto slot = std::make_shared<std::optional<ServerMessage>>();
-    if (auto problem = check_request(message)) {
-      ServerMessage reply;
-      reply.mutable_error()->set_request_id(message.request_id());
-      reply.mutable_error()->set_code(problem->code);
-      reply.mutable_error()->set_message(problem->message);
-      *slot = std::move(reply);
-      return slot;
-    }
-    sim_->submit(Command{message, [slot](ServerMessage m) { *slot = std::move(m); }});
-    return slot;
-  }
-
-  // Submits `message` and runs ticks (at most 100) until its reply is in.
-  ServerMessage request(ClientMessage message) {
-    auto slot = submit(std::move(message));
-    for (int i = 0; i < 100 && !slot->has_value(); ++i) sim_->run_tick();
-    EXPECT_TRUE(slot->has_value()) << "no reply";
-    return slot->value_or(ServerMessage{});
-  }
-
-  void run(int ticks) {
-    for (int i = 0; i < ticks; ++i) sim_->run_tick();
-  }
-
-  physics::BodyId id_of(const char* name) {
-    tumble::v1::BodyRef ref;
-    ref.set_name(name);
-    return sim_->resolve(ref);
-  }
-
- private:
-  std::unique_ptr<Simulation> sim_;
-  std::vector<WorldEvent> events_;
-  std::uint64_t request_id_ = 0;
-};
 
 class ControlTest : public ::testing::Test {
  protected:

@@ -16,6 +16,7 @@
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "sim_driver.h"
 #include "temp_dir.h"
 
 namespace tumble::sim {
@@ -69,45 +70,6 @@ std::unique_ptr<Simulation> make_sim(const std::string& json) {
   EXPECT_TRUE(status.ok()) << status.message();
   return sim;
 }
-
-// Drives one Simulation: requests checked as the network layer checks
-// them, and ticks run until their replies are in.
-class Driver {
- public:
-  explicit Driver(std::unique_ptr<Simulation> sim) : sim_(std::move(sim)) {
-    sim_->add_event_listener([this](std::shared_ptr<const WorldEvents> events) {
-      events_.insert(events_.end(), events->begin(), events->end());
-    });
-  }
-
-  Simulation& sim() { return *sim_; }
-  const physics::World& world() { return sim_->world(); }
-  std::vector<WorldEvent>& events() { return events_; }
-
-  ServerMessage request(ClientMessage message) {
-    message.set_request_id(++request_id_);
-    if (auto problem = check_request(message)) {
-      ServerMessage reply;
-      reply.mutable_error()->set_code(problem->code);
-      reply.mutable_error()->set_message(problem->message);
-      return reply;
-    }
-    auto slot = std::make_shared<std::optional<ServerMessage>>();
-    sim_->submit(Command{message, [slot](ServerMessage m) { *slot = std::move(m); }});
-    for (int i = 0; i < 100 && !slot->has_value(); ++i) sim_->run_tick();
-    EXPECT_TRUE(slot->has_value()) << "no reply";
-    return slot->value_or(ServerMessage{});
-  }
-
-  void run(int ticks) {
-    for (int i = 0; i < ticks; ++i) sim_->run_tick();
-  }
-
- private:
-  std::unique_ptr<Simulation> sim_;
-  std::vector<WorldEvent> events_;
-  std::uint64_t request_id_ = 0;
-};
 
 ClientMessage add_joint(const std::string& spec_json) {
   // The spec as a scene file writes it, read through the scene parser.
