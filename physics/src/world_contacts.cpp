@@ -53,16 +53,16 @@ bool World::Impl::can_collide(std::size_t a, std::size_t b) const {
   return (is_dynamic(a) || is_dynamic(b)) && !jointed(a, b);
 }
 
-bool World::Impl::has_contact(std::uint32_t a, std::uint32_t b) const {
+std::uint32_t World::Impl::find_contact(std::uint32_t a, std::uint32_t b) const {
   // Walk the shorter of the two lists.
   if (records_[b].contact_count < records_[a].contact_count) std::swap(a, b);
   for (ContactKey key = records_[a].contact_head; key != kNullContactKey;) {
     const ContactLink& link = links_[key >> 1];
     const std::uint32_t side = key & 1;
-    if ((side == 0 ? link.body_b : link.body_a) == b) return true;
+    if ((side == 0 ? link.body_b : link.body_a) == b) return key >> 1;
     key = link.next[side];
   }
-  return false;
+  return kNoIndex;
 }
 
 void World::Impl::create_contact(std::uint32_t a, std::uint32_t b) {

@@ -139,7 +139,9 @@ class World::Impl {
 
   // Contacts and collision (world_contacts.cpp).
   bool can_collide(std::size_t a, std::size_t b) const;
-  bool has_contact(std::uint32_t a, std::uint32_t b) const;
+  // The slot of the contact between bodies a and b, or kNoIndex.
+  std::uint32_t find_contact(std::uint32_t a, std::uint32_t b) const;
+  bool has_contact(std::uint32_t a, std::uint32_t b) const { return find_contact(a, b) != kNoIndex; }
   void create_contact(std::uint32_t a, std::uint32_t b);
   void destroy_contact(std::uint32_t c);
   void destroy_contacts_of(std::uint32_t body, bool wake_others);

@@ -135,18 +135,8 @@ JointId World::Impl::add_joint_with_id(const JointDesc& desc, JointId id) {
   // Jointed bodies stop colliding: a contact they have now goes.
   if (!desc.collide_connected && desc.body_a != kWorldBodyId && desc.body_b != kWorldBodyId) {
     const std::uint32_t a = id_to_dense_[desc.body_a], b = id_to_dense_[desc.body_b];
-    const std::uint32_t shorter = records_[a].contact_count <= records_[b].contact_count ? a : b;
-    const std::uint32_t other = shorter == a ? b : a;
-    for (ContactKey key = records_[shorter].contact_head; key != kNullContactKey;) {
-      const ContactLink& link = links_[key >> 1];
-      const std::uint32_t side = key & 1;
-      const std::uint32_t slot = key >> 1;
-      key = link.next[side];
-      if ((side == 0 ? link.body_b : link.body_a) == other) {
-        destroy_contact(slot);
-        break;
-      }
-    }
+    const std::uint32_t slot = find_contact(a, b);
+    if (slot != kNoIndex) destroy_contact(slot);
   }
   return id;
 }
