@@ -343,7 +343,8 @@ TEST_F(ControlProtocolTest, AStreamOfFewerBodiesIsSentFirstInItsTick) {
   std::vector<std::uint32_t> order;
   bool acked = false;
   while (order.size() < 2 || !acked) {
-    const auto m = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame() || is_reply_to(m, 4); });
+    const auto m =
+        client_.read_until([](const ServerMessage& reply) { return reply.has_pose_frame() || is_reply_to(reply, 4); });
     ASSERT_TRUE(m) << "the Step's Ack and two frames of tick " << at + 1;
     if (is_reply_to(*m, 4)) {
       ASSERT_TRUE(m->has_ack());
