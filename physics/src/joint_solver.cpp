@@ -196,6 +196,33 @@ void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j
   apply(row, j, lambda, v);
 }
 
+// Friction along j: drives the joint's speed along it to zero with an
+// impulse within friction h a substep (Coulomb's law on the joint's free
+// direction, as a motor of target speed 0 whose force is the friction).
+void solve_friction(const JointRow& row, double friction, const Jacobian& j, const JointStepSettings& settings,
+                    double& accumulated, Velocities& v) {
+  const double max_impulse = friction * settings.h;
+  const double next = std::clamp(accumulated - effective_mass(row, j) * velocity(j, v), -max_impulse, max_impulse);
+  const double lambda = next - accumulated;
+  accumulated = next;
+  apply(row, j, lambda, v);
+}
+
+// A ball joint's friction: the relative angular velocity w_b - w_a driven
+// to zero as one block, the impulse within friction h in magnitude (the
+// torque resists turning about any axis alike).
+void solve_ball_friction(const JointRow& row, double friction, const JointStepSettings& settings, Vec3& accumulated,
+                         Velocities& v) {
+  const Vec3 cdot = v.angular_b - v.angular_a;
+  Vec3 next = accumulated - row.lock_mass * cdot;
+  const double max_impulse = friction * settings.h;
+  if (next.squaredNorm() > max_impulse * max_impulse) next *= max_impulse / next.norm();
+  const Vec3 lambda = next - accumulated;
+  accumulated = next;
+  v.angular_a -= row.inverse_inertia_a * lambda;
+  v.angular_b += row.inverse_inertia_b * lambda;
+}
+
 // The point constraint C = d, three rows as one block (joint_solver.h).
 void solve_point(const JointRow& row, const Geometry& g, const JointStepSettings& settings, bool soft,
                  Vec3& accumulated, Velocities& v) {
@@ -293,6 +320,7 @@ bool cone_axis(const Geometry& g, double* angle, Vec3* axis) {
 void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double position, bool angular,
                  const JointStepSettings& settings, bool soft, Velocities& v) {
   JointImpulses& impulses = row.impulses;
+  if (desc.friction > 0) solve_friction(row, desc.friction, j, settings, impulses.friction.x(), v);
   if (desc.motor.mode != JointMotor::Mode::off) {
     solve_motor(row, desc.motor, j, position, angular, settings, impulses.motor, v);
   }
@@ -303,7 +331,9 @@ void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double
 }
 
 // The net impulse of the axial rows along their direction.
-double axial_impulse(const JointImpulses& impulses) { return impulses.motor + impulses.lower - impulses.upper; }
+double axial_impulse(const JointImpulses& impulses) {
+  return impulses.friction.x() + impulses.motor + impulses.lower - impulses.upper;
+}
 
 }  // namespace
 
@@ -343,7 +373,8 @@ void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t b
                    sb * row.inverse_inertia_b * sb;
     row.point_mass = k.inverse();
   }
-  if (desc.type == JointType::fixed || desc.type == JointType::slider) {
+  if (desc.type == JointType::fixed || desc.type == JointType::slider ||
+      (desc.type == JointType::ball && desc.friction > 0)) {
     row.lock_mass = (row.inverse_inertia_a + row.inverse_inertia_b).inverse();
   }
   row.frames = !(desc.type == JointType::distance || (desc.type == JointType::ball && std::isinf(desc.cone_limit)));
@@ -362,7 +393,7 @@ void warm_start_joint(const JointRow& row, SolverBody* slots) {
       double angle;
       Vec3 axis;
       const Vec3 cone = row.frames && cone_axis(g, &angle, &axis) ? Vec3(-impulses.lower * axis) : Vec3::Zero();
-      apply(row, impulses.linear, g.anchor_a, g.anchor_b, cone, v);
+      apply(row, impulses.linear, g.anchor_a, g.anchor_b, cone + impulses.friction, v);
       break;
     }
     case JointType::hinge: {
@@ -401,6 +432,7 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
     case JointType::ball: {
       double angle;
       Vec3 axis;
+      if (desc.friction > 0) solve_ball_friction(row, desc.friction, settings, impulses.friction, v);
       if (std::isfinite(desc.cone_limit) && cone_axis(g, &angle, &axis)) {
         // C = cone - phi >= 0 with dphi/dt = axis.(w_b - w_a).
         solve_one_sided(row, angular_row(-axis), desc.cone_limit - angle, impulses.lower, settings, soft, v);
@@ -450,7 +482,8 @@ void store_joint(const JointRow& row, const SolverBody* slots, const JointStepSe
       double angle;
       Vec3 axis;
       linear = impulses.linear;
-      if (row.frames && cone_axis(g, &angle, &axis)) angular = -impulses.lower * axis;
+      angular = impulses.friction;
+      if (row.frames && cone_axis(g, &angle, &axis)) angular -= impulses.lower * axis;
       break;
     }
     case JointType::hinge: {

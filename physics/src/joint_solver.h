@@ -86,8 +86,9 @@ struct JointRow {
   Quat frame_b = Quat::Identity();
   Vec3 delta_center = Vec3::Zero();  // x_b - x_a at the start of the step
   // The point block's K^-1 (ball, hinge, fixed) and the rotation lock's
-  // (I_a^-1 + I_b^-1)^-1 (fixed, slider), from the step's start: the arms
-  // turn little within a step, and the error is measured afresh each pass.
+  // (I_a^-1 + I_b^-1)^-1 (fixed, slider, and a ball joint with friction),
+  // from the step's start: the arms turn little within a step, and the
+  // error is measured afresh each pass.
   Mat3 point_mass = Mat3::Zero();
   Mat3 lock_mass = Mat3::Zero();
   bool frames = true;    // whether a pass needs the frames (not a ball joint without a cone, nor a distance joint)

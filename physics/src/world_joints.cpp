@@ -74,6 +74,10 @@ const char* World::Impl::joint_desc_error(const JointDesc& desc) const {
     }
   }
   if (const char* error = motor_error(desc.type, desc.motor)) return error;
+  if (!(desc.friction >= 0) || !std::isfinite(desc.friction)) return "friction: not a finite number >= 0";
+  if (desc.friction > 0 && !(axial || desc.type == JointType::ball)) {
+    return "friction: only a ball joint, a hinge or a slider has friction";
+  }
   if (!(desc.break_force > 0)) return "break_force: not > 0";
   if (!(desc.break_torque > 0)) return "break_torque: not > 0";
   return nullptr;

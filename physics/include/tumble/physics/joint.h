@@ -84,6 +84,11 @@ struct JointDesc {
   double spring_hertz = 0;  // > 0: a spring towards length (min_length < max_length)
   double spring_damping_ratio = 0;
   JointMotor motor;  // hinge and slider only
+  // Ball, hinge and slider: the largest torque (N m; ball, hinge) or force
+  // (N; slider) with which the joint resists motion in its free directions,
+  // as a worn hinge or a limb's muscles do; 0 for none. Below it the joint
+  // holds still, above it the rest of the load turns or slides it.
+  double friction = 0;
   // The joint breaks (is removed in the step, World::broken_joints) when
   // its constraint force or torque exceeds these.
   double break_force = std::numeric_limits<double>::infinity();
@@ -114,6 +119,7 @@ struct JointImpulses {
   double upper = 0;
   double motor = 0;
   double spring = 0;
+  Vec3 friction = Vec3::Zero();  // ball: angular; hinge, slider: x along the axis
 };
 
 }  // namespace tumble::physics
