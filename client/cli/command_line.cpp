@@ -133,6 +133,7 @@ struct JointArguments {
   double length = 0;
   double break_force = 0;
   double break_torque = 0;
+  double friction = 0;
   bool collide_connected = false;
   std::array<bool, 5> types{};        // --ball, --hinge, --slider, --fixed, --distance
   std::vector<CLI::Option*> options;  // by the order of the fields above, from anchor on
@@ -167,6 +168,10 @@ struct JointArguments {
         command.add_option("--length", length, "A distance joint's rest length (m)")->type_name("L"),
         command.add_option("--break-force", break_force, "Force (N) above which the joint breaks")->type_name("F"),
         command.add_option("--break-torque", break_torque, "Torque (N m) above which the joint breaks")->type_name("T"),
+        command
+            .add_option("--friction", friction,
+                        "Torque (N m; ball, hinge) or force (N; slider) with which the joint resists moving")
+            ->type_name("F"),
     };
     command.add_flag("--collide-connected", collide_connected, "The two bodies still collide with each other");
   }
@@ -192,6 +197,7 @@ struct JointArguments {
     out.length = given(options[7], length);
     out.break_force = given(options[8], break_force);
     out.break_torque = given(options[9], break_torque);
+    out.friction = given(options[10], friction);
     out.collide_connected = collide_connected;
     return out;
   }

@@ -201,6 +201,7 @@ struct JointAddCommand {
   std::optional<double> length;                 // m
   std::optional<double> break_force;            // N
   std::optional<double> break_torque;           // N m
+  std::optional<double> friction;               // N m (ball, hinge) or N (slider)
   bool collide_connected = false;
 };
 

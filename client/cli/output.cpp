@@ -642,6 +642,7 @@ Json joint_list_json(const tumble::v1::JointList& list) {
     entry["motor"] = std::move(motor);
     entry["break_force"] = joint.has_break_force() ? Json(joint.break_force()) : Json(nullptr);
     entry["break_torque"] = joint.has_break_torque() ? Json(joint.break_torque()) : Json(nullptr);
+    entry["friction"] = joint.friction();
     entry["collide_connected"] = joint.collide_connected();
     const auto& state = joint.state();
     Json state_json = Json::object();

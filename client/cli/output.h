@@ -132,9 +132,10 @@ std::string format_joint_table(const tumble::v1::JointList& list);
 // ([lower, upper] or null), "cone_limit", "length", "min_length",
 // "max_length", "spring", "motor" (null, or {"speed" or "position",
 // "hertz", "damping_ratio", "max_torque" or "max_force"}), "break_force",
-// "break_torque", "collide_connected", "state": {"position", "speed",
-// "force", "torque", "motor_impulse"}}, ...]}; limits and breaking the
-// joint does not have are null; body_a is null for the world.
+// "break_torque", "friction" (0: none), "collide_connected", "state":
+// {"position", "speed", "force", "torque", "motor_impulse"}}, ...]}; limits
+// and breaking the joint does not have are null; body_a is null for the
+// world.
 Json joint_list_json(const tumble::v1::JointList& list);
 
 // "tick 1234  t=5.142s\n", then one line per body:

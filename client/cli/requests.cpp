@@ -136,6 +136,7 @@ tumble::v1::JointSpec make_joint_spec(const JointAddCommand& command) {
   if (command.length) spec.set_length(*command.length);
   if (command.break_force) spec.set_break_force(*command.break_force);
   if (command.break_torque) spec.set_break_torque(*command.break_torque);
+  if (command.friction) spec.set_friction(*command.friction);
   spec.set_collide_connected(command.collide_connected);
   return spec;
 }

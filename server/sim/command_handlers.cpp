@@ -494,6 +494,7 @@ ServerMessage Simulation::list_joints(const ClientMessage& message) const {
     if (std::isfinite(desc.break_force)) info.set_break_force(desc.break_force);
     if (std::isfinite(desc.break_torque)) info.set_break_torque(desc.break_torque);
     info.set_collide_connected(desc.collide_connected);
+    info.set_friction(desc.friction);
     fill_joint_state(world_, id, info.mutable_state());
     const std::size_t encoded = page_entry_bytes(info.ByteSizeLong());
     if (list->joints_size() > 0 && page_bytes + encoded > config_.list_page_bytes) {

@@ -241,6 +241,11 @@ Status check_joint_spec(const JointSpec& spec, const std::string& where) {
     return status;
   }
   if (spec.has_cone_limit() && !(status = check_number(spec.cone_limit(), where + ".cone_limit")).ok()) return status;
+  if (!(status = check_takes(spec.has_friction(), ball || hinge_or_slider, type, where + ".friction", "friction"))
+           .ok()) {
+    return status;
+  }
+  if (spec.has_friction() && !(status = check_at_least_zero(spec.friction(), where + ".friction")).ok()) return status;
 
   const struct {
     bool present;
@@ -341,6 +346,7 @@ Status joint_desc_from_spec(const JointSpec& spec, const std::string& where, con
   if (spec.has_motor()) desc->motor = physics_motor(spec.motor());
   if (spec.has_break_force()) desc->break_force = spec.break_force();
   if (spec.has_break_torque()) desc->break_torque = spec.break_torque();
+  if (spec.has_friction()) desc->friction = spec.friction();
   desc->collide_connected = spec.collide_connected();
   if (const char* error = world.joint_desc_error(*desc)) return Status::error(where + "." + error);
   return {};

@@ -176,7 +176,7 @@ void read_joint(const json& value, const std::string& path, tumble::v1::JointSpe
   require_object(
       value, path,
       {"name", "type", "body_a", "body_b", "anchor", "anchor_a", "anchor_b", "axis", "limits", "cone_limit", "length",
-       "min_length", "max_length", "spring", "motor", "break_force", "break_torque", "collide_connected"});
+       "min_length", "max_length", "spring", "motor", "break_force", "break_torque", "collide_connected", "friction"});
   if (value.contains("name")) joint->set_name(read_string(value["name"], path + ".name"));
   if (!value.contains("type")) fail(path, "missing field 'type'");
   const std::string type = read_string(value["type"], path + ".type");
@@ -228,6 +228,7 @@ void read_joint(const json& value, const std::string& path, tumble::v1::JointSpe
   if (value.contains("break_torque")) {
     joint->set_break_torque(read_number(value["break_torque"], path + ".break_torque"));
   }
+  if (value.contains("friction")) joint->set_friction(read_number(value["friction"], path + ".friction"));
   if (value.contains("collide_connected")) {
     joint->set_collide_connected(read_bool(value["collide_connected"], path + ".collide_connected"));
   }

@@ -87,6 +87,7 @@ void save_joint(const physics::World& world, const JointDirectory& joints, physi
   saved->set_break_force(desc.break_force);
   saved->set_break_torque(desc.break_torque);
   saved->set_collide_connected(desc.collide_connected);
+  saved->set_friction(desc.friction);
   const physics::JointImpulses& impulses = world.joint_impulses(id);
   set_vec3(impulses.linear, saved->mutable_linear_impulse());
   set_vec3(impulses.angular, saved->mutable_angular_impulse());
@@ -94,6 +95,7 @@ void save_joint(const physics::World& world, const JointDirectory& joints, physi
   saved->set_upper_impulse(impulses.upper);
   saved->set_motor_impulse(impulses.motor);
   saved->set_spring_impulse(impulses.spring);
+  set_vec3(impulses.friction, saved->mutable_friction_impulse());
 }
 
 // The saved joint as the engine's desc and impulses, checked as far as a
@@ -136,9 +138,11 @@ Status joint_from_saved(const tumble::v1::SavedJoint& saved, const std::string& 
   desc->break_force = saved.break_force();
   desc->break_torque = saved.break_torque();
   desc->collide_connected = saved.collide_connected();
+  desc->friction = saved.friction();
   const bool finite_impulses = finite(saved.linear_impulse()) && finite(saved.angular_impulse()) &&
-                               std::isfinite(saved.lower_impulse()) && std::isfinite(saved.upper_impulse()) &&
-                               std::isfinite(saved.motor_impulse()) && std::isfinite(saved.spring_impulse());
+                               finite(saved.friction_impulse()) && std::isfinite(saved.lower_impulse()) &&
+                               std::isfinite(saved.upper_impulse()) && std::isfinite(saved.motor_impulse()) &&
+                               std::isfinite(saved.spring_impulse());
   if (!finite_impulses) return Status::error(where + ": its impulses must be finite");
   impulses->linear = to_vec3(saved.linear_impulse());
   impulses->angular = to_vec3(saved.angular_impulse());
@@ -146,6 +150,7 @@ Status joint_from_saved(const tumble::v1::SavedJoint& saved, const std::string& 
   impulses->upper = saved.upper_impulse();
   impulses->motor = saved.motor_impulse();
   impulses->spring = saved.spring_impulse();
+  impulses->friction = to_vec3(saved.friction_impulse());
   return {};
 }
 

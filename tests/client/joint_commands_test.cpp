@@ -22,7 +22,8 @@ TEST(JointCommands, JointAddTakesTheTypeBodiesAndOnlyTheFieldsGiven) {
                                                        "1",        "0",
                                                        "--limits", "-1.5",
                                                        "1.5",      "--break-torque",
-                                                       "30",       "--collide-connected"});
+                                                       "30",       "--friction",
+                                                       "0.4",      "--collide-connected"});
   const tumble::v1::JointSpec spec = make_joint_spec(command);
   EXPECT_EQ(spec.name(), "door");
   EXPECT_EQ(spec.type(), tumble::v1::JOINT_TYPE_HINGE);
@@ -33,6 +34,7 @@ TEST(JointCommands, JointAddTakesTheTypeBodiesAndOnlyTheFieldsGiven) {
   EXPECT_EQ(spec.limits().lower(), -1.5);
   EXPECT_EQ(spec.limits().upper(), 1.5);
   EXPECT_EQ(spec.break_torque(), 30);
+  EXPECT_EQ(spec.friction(), 0.4);
   EXPECT_TRUE(spec.collide_connected());
   EXPECT_FALSE(spec.has_break_force());
   EXPECT_FALSE(spec.has_cone_limit());
@@ -46,6 +48,7 @@ TEST(JointCommands, JointAddTakesTheTypeBodiesAndOnlyTheFieldsGiven) {
   EXPECT_TRUE(rope.has_min_length());
   EXPECT_EQ(rope.max_length(), 1);
   EXPECT_FALSE(rope.has_length());
+  EXPECT_FALSE(rope.has_friction());
 }
 
 TEST(JointCommands, JointAddNeedsExactlyOneTypeAndTwoBodies) {
@@ -103,6 +106,7 @@ tumble::v1::JointList a_joint_list() {
   joint->mutable_limits()->set_upper(1);
   joint->mutable_motor()->set_speed(0.5);
   joint->mutable_motor()->set_max_torque(20);
+  joint->set_friction(1.5);
   joint->mutable_state()->set_position(0.25);
   joint->mutable_state()->set_speed(0.5);
   return list;
@@ -126,6 +130,7 @@ TEST(JointOutput, JsonCarriesEveryField) {
   EXPECT_EQ(joint["motor"]["speed"], 0.5);
   EXPECT_EQ(joint["motor"]["max_torque"], 20.0);
   EXPECT_EQ(joint["break_force"], nullptr);
+  EXPECT_EQ(joint["friction"], 1.5);
   EXPECT_EQ(joint["state"]["position"], 0.25);
 }
 

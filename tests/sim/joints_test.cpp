@@ -36,16 +36,18 @@ constexpr const char* kBodies = R"(
     {"name": "a", "shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [15, 0, 0]},
     {"name": "b", "shape": {"sphere": {"radius": 0.2}}, "mass": 1, "position": [15, 1, 0]})";
 
-// The joints of the README's example, one of each type.
+// The joints of the README's example, one of each type, the ball joint
+// and the slider with friction.
 constexpr const char* kJoints = R"(
     {"name": "door-hinge", "type": "hinge", "body_a": "world", "body_b": "door",
      "anchor": [0, 1, 0], "axis": [0, 1, 0], "limits": [-1.5, 1.5],
      "motor": {"speed": 0.5, "max_torque": 20}},
     {"name": "rope", "type": "distance", "body_a": "world", "body_b": "bob",
      "anchor_a": [0, 2, 0], "anchor_b": [1, 2, 0], "min_length": 0, "max_length": 1},
-    {"type": "ball", "body_a": "upper", "body_b": "lower", "anchor": [5, 1, 0], "cone_limit": 0.8},
+    {"type": "ball", "body_a": "upper", "body_b": "lower", "anchor": [5, 1, 0], "cone_limit": 0.8,
+     "friction": 0.5},
     {"type": "slider", "body_a": "world", "body_b": "cart", "anchor": [10, 0.5, 0], "axis": [1, 0, 0],
-     "limits": [-2, 2]},
+     "limits": [-2, 2], "friction": 2},
     {"type": "fixed", "body_a": "a", "body_b": "b"})";
 
 std::string scene_with(const std::string& joints, const char* gravity = "[0, 0, 0]") {
@@ -135,10 +137,13 @@ TEST(SceneJoints, EachTypeLoadsWithItsFields) {
   EXPECT_EQ(rope.length, 1);  // the anchors' distance, within the limits
   const physics::JointDesc& ball = world.joint_desc(world.joint_id_at(2));
   EXPECT_EQ(ball.cone_limit, 0.8);
+  EXPECT_EQ(ball.friction, 0.5);
   // The cone axis points from the anchor to the lower body's centre: -y.
   const physics::Vec3 cone_axis = world.orientation(ball.body_a) * (ball.local_basis_a * physics::Vec3::UnitX());
   EXPECT_TRUE(cone_axis.isApprox(physics::Vec3(0, -1, 0), 1e-12)) << cone_axis.transpose();
   EXPECT_EQ(world.joint_desc(world.joint_id_at(3)).upper, 2);
+  EXPECT_EQ(world.joint_desc(world.joint_id_at(3)).friction, 2);
+  EXPECT_EQ(hinge.friction, 0) << "none when absent";
   // A fixed joint's anchor defaults to body B's centre.
   const physics::JointDesc& fixed = world.joint_desc(world.joint_id_at(4));
   EXPECT_TRUE(fixed.local_anchor_b.isZero(1e-12)) << fixed.local_anchor_b.transpose();
@@ -182,6 +187,10 @@ TEST(SceneJoints, BadJointsStopTheLoadNamingTheJointAndField) {
       {R"({"type": "ball", "body_a": "world", "body_b": "door", "anchor": [0, 0, 0], "cone_limit": 4})",
        "joints[0].cone_limit: not within (0, pi]"},
       {R"({"type": "fixed", "body_a": "b", "body_b": "world"})", "joints[0].body_b: only body_a may be the world"},
+      {R"({"type": "fixed", "body_a": "a", "body_b": "b", "friction": 1})",
+       "joints[0].friction: a fixed joint has no friction"},
+      {R"({"type": "hinge", "body_a": "world", "body_b": "door", "anchor": [0, 0, 0], "friction": -1})",
+       "joints[0].friction: -1 is below 0"},
   };
   for (const auto& [joint, message] : cases) EXPECT_EQ(load_error(scene_with(joint)), message) << joint;
   EXPECT_EQ(load_error(scene_with(R"({"name": "j", "type": "fixed", "body_a": "a", "body_b": "b"},
@@ -193,7 +202,7 @@ TEST(JointRequests, AddListDriveAndRemoveAJoint) {
   Driver driver(make_sim(scene_with("")));
   const ServerMessage added = driver.request(add_joint(
       R"({"name": "h", "type": "hinge", "body_a": "world", "body_b": "door", "anchor": [0, 1, 0], "axis": [0, 1, 0],
-          "limits": [-1, 1]})"));
+          "limits": [-1, 1], "friction": 5})"));
   ASSERT_EQ(outcome(added), "ack");
   ASSERT_TRUE(added.ack().has_joint_id());
   const physics::JointId id = added.ack().joint_id();
@@ -215,7 +224,8 @@ TEST(JointRequests, AddListDriveAndRemoveAJoint) {
   EXPECT_EQ(info.limits().upper(), 1);
   EXPECT_EQ(info.motor().speed(), 1);
   EXPECT_EQ(info.motor().max_torque(), 50);
-  EXPECT_GT(info.state().position(), 0.1) << "the motor turns the door";
+  EXPECT_EQ(info.friction(), 5);
+  EXPECT_GT(info.state().position(), 0.1) << "the motor turns the door, against the friction";
   EXPECT_NEAR(info.state().speed(), 1, 0.05);
 
   ClientMessage off;
@@ -333,6 +343,8 @@ void expect_same_bits(const physics::World& a, const physics::World& b) {
     EXPECT_EQ(x.upper, y.upper) << id;
     EXPECT_EQ(x.motor, y.motor) << id;
     EXPECT_EQ(x.spring, y.spring) << id;
+    EXPECT_EQ(x.friction, y.friction) << id;
+    EXPECT_EQ(a.joint_desc(id).friction, b.joint_desc(id).friction) << id;
   }
 }
 

@@ -270,7 +270,7 @@ class Hello(_message.Message):
     def __init__(self, protocol_version: _Optional[int] = ..., client_name: _Optional[str] = ..., token: _Optional[str] = ...) -> None: ...
 
 class JointInfo(_message.Message):
-    __slots__ = ["anchor_a", "anchor_b", "axis", "body_a", "body_a_name", "body_b", "body_b_name", "break_force", "break_torque", "collide_connected", "cone_limit", "id", "length", "limits", "max_length", "min_length", "motor", "name", "spring", "state", "type"]
+    __slots__ = ["anchor_a", "anchor_b", "axis", "body_a", "body_a_name", "body_b", "body_b_name", "break_force", "break_torque", "collide_connected", "cone_limit", "friction", "id", "length", "limits", "max_length", "min_length", "motor", "name", "spring", "state", "type"]
     ANCHOR_A_FIELD_NUMBER: _ClassVar[int]
     ANCHOR_B_FIELD_NUMBER: _ClassVar[int]
     AXIS_FIELD_NUMBER: _ClassVar[int]
@@ -282,6 +282,7 @@ class JointInfo(_message.Message):
     BREAK_TORQUE_FIELD_NUMBER: _ClassVar[int]
     COLLIDE_CONNECTED_FIELD_NUMBER: _ClassVar[int]
     CONE_LIMIT_FIELD_NUMBER: _ClassVar[int]
+    FRICTION_FIELD_NUMBER: _ClassVar[int]
     ID_FIELD_NUMBER: _ClassVar[int]
     LENGTH_FIELD_NUMBER: _ClassVar[int]
     LIMITS_FIELD_NUMBER: _ClassVar[int]
@@ -303,6 +304,7 @@ class JointInfo(_message.Message):
     break_torque: float
     collide_connected: bool
     cone_limit: float
+    friction: float
     id: int
     length: float
     limits: _scene_pb2.JointLimits
@@ -313,7 +315,7 @@ class JointInfo(_message.Message):
     spring: _scene_pb2.JointSpring
     state: JointState
     type: _scene_pb2.JointType
-    def __init__(self, id: _Optional[int] = ..., name: _Optional[str] = ..., type: _Optional[_Union[_scene_pb2.JointType, str]] = ..., body_a: _Optional[int] = ..., body_a_name: _Optional[str] = ..., body_b: _Optional[int] = ..., body_b_name: _Optional[str] = ..., anchor_a: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., anchor_b: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., axis: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., limits: _Optional[_Union[_scene_pb2.JointLimits, _Mapping]] = ..., cone_limit: _Optional[float] = ..., length: _Optional[float] = ..., min_length: _Optional[float] = ..., max_length: _Optional[float] = ..., spring: _Optional[_Union[_scene_pb2.JointSpring, _Mapping]] = ..., motor: _Optional[_Union[_scene_pb2.JointMotorSpec, _Mapping]] = ..., break_force: _Optional[float] = ..., break_torque: _Optional[float] = ..., collide_connected: bool = ..., state: _Optional[_Union[JointState, _Mapping]] = ...) -> None: ...
+    def __init__(self, id: _Optional[int] = ..., name: _Optional[str] = ..., type: _Optional[_Union[_scene_pb2.JointType, str]] = ..., body_a: _Optional[int] = ..., body_a_name: _Optional[str] = ..., body_b: _Optional[int] = ..., body_b_name: _Optional[str] = ..., anchor_a: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., anchor_b: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., axis: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., limits: _Optional[_Union[_scene_pb2.JointLimits, _Mapping]] = ..., cone_limit: _Optional[float] = ..., length: _Optional[float] = ..., min_length: _Optional[float] = ..., max_length: _Optional[float] = ..., spring: _Optional[_Union[_scene_pb2.JointSpring, _Mapping]] = ..., motor: _Optional[_Union[_scene_pb2.JointMotorSpec, _Mapping]] = ..., break_force: _Optional[float] = ..., break_torque: _Optional[float] = ..., collide_connected: bool = ..., state: _Optional[_Union[JointState, _Mapping]] = ..., friction: _Optional[float] = ...) -> None: ...
 
 class JointList(_message.Message):
     __slots__ = ["joints", "next_start_id", "request_id", "tick", "total_joints"]

@@ -85,7 +85,7 @@ class JointMotorSpec(_message.Message):
     def __init__(self, speed: _Optional[float] = ..., position: _Optional[float] = ..., hertz: _Optional[float] = ..., damping_ratio: _Optional[float] = ..., max_torque: _Optional[float] = ..., max_force: _Optional[float] = ...) -> None: ...
 
 class JointSpec(_message.Message):
-    __slots__ = ["anchor", "anchor_b", "axis", "body_a", "body_b", "break_force", "break_torque", "collide_connected", "cone_limit", "length", "limits", "max_length", "min_length", "motor", "name", "spring", "type"]
+    __slots__ = ["anchor", "anchor_b", "axis", "body_a", "body_b", "break_force", "break_torque", "collide_connected", "cone_limit", "friction", "length", "limits", "max_length", "min_length", "motor", "name", "spring", "type"]
     ANCHOR_B_FIELD_NUMBER: _ClassVar[int]
     ANCHOR_FIELD_NUMBER: _ClassVar[int]
     AXIS_FIELD_NUMBER: _ClassVar[int]
@@ -95,6 +95,7 @@ class JointSpec(_message.Message):
     BREAK_TORQUE_FIELD_NUMBER: _ClassVar[int]
     COLLIDE_CONNECTED_FIELD_NUMBER: _ClassVar[int]
     CONE_LIMIT_FIELD_NUMBER: _ClassVar[int]
+    FRICTION_FIELD_NUMBER: _ClassVar[int]
     LENGTH_FIELD_NUMBER: _ClassVar[int]
     LIMITS_FIELD_NUMBER: _ClassVar[int]
     MAX_LENGTH_FIELD_NUMBER: _ClassVar[int]
@@ -112,6 +113,7 @@ class JointSpec(_message.Message):
     break_torque: float
     collide_connected: bool
     cone_limit: float
+    friction: float
     length: float
     limits: JointLimits
     max_length: float
@@ -120,7 +122,7 @@ class JointSpec(_message.Message):
     name: str
     spring: JointSpring
     type: JointType
-    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[JointType, str]] = ..., body_a: _Optional[str] = ..., body_b: _Optional[str] = ..., anchor: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., anchor_b: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., axis: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., limits: _Optional[_Union[JointLimits, _Mapping]] = ..., cone_limit: _Optional[float] = ..., length: _Optional[float] = ..., min_length: _Optional[float] = ..., max_length: _Optional[float] = ..., spring: _Optional[_Union[JointSpring, _Mapping]] = ..., motor: _Optional[_Union[JointMotorSpec, _Mapping]] = ..., break_force: _Optional[float] = ..., break_torque: _Optional[float] = ..., collide_connected: bool = ...) -> None: ...
+    def __init__(self, name: _Optional[str] = ..., type: _Optional[_Union[JointType, str]] = ..., body_a: _Optional[str] = ..., body_b: _Optional[str] = ..., anchor: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., anchor_b: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., axis: _Optional[_Union[_types_pb2.Vec3, _Mapping]] = ..., limits: _Optional[_Union[JointLimits, _Mapping]] = ..., cone_limit: _Optional[float] = ..., length: _Optional[float] = ..., min_length: _Optional[float] = ..., max_length: _Optional[float] = ..., spring: _Optional[_Union[JointSpring, _Mapping]] = ..., motor: _Optional[_Union[JointMotorSpec, _Mapping]] = ..., break_force: _Optional[float] = ..., break_torque: _Optional[float] = ..., collide_connected: bool = ..., friction: _Optional[float] = ...) -> None: ...
 
 class JointSpring(_message.Message):
     __slots__ = ["damping_ratio", "hertz"]
