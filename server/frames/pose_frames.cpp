@@ -29,6 +29,20 @@ void fill_full(const sim::Snapshot& snapshot, bool all_bodies, const std::vector
   }
 }
 
+void fill_joints(const sim::Snapshot& snapshot, tumble::v1::PoseFrame* out) {
+  const int n = static_cast<int>(snapshot.joint_ids.size());
+  out->mutable_joint_ids()->Reserve(n);
+  out->mutable_joint_positions()->Reserve(n);
+  out->mutable_joint_speeds()->Reserve(n);
+  out->mutable_joint_motor_impulses()->Reserve(n);
+  for (std::size_t i = 0; i < snapshot.joint_ids.size(); ++i) {
+    out->add_joint_ids(snapshot.joint_ids[i]);
+    out->add_joint_positions(static_cast<float>(snapshot.joint_positions[i]));
+    out->add_joint_speeds(static_cast<float>(snapshot.joint_speeds[i]));
+    out->add_joint_motor_impulses(static_cast<float>(snapshot.joint_motor_impulses[i]));
+  }
+}
+
 void fill_quantized(const std::vector<wire::QuantizedBody>& bodies, bool velocities, tumble::v1::PoseFrame* out) {
   out->set_encoding(tumble::v1::POSE_ENCODING_QUANTIZED);
   out->set_packed(wire::encode_quantized_poses(bodies, velocities));

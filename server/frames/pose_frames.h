@@ -2,8 +2,8 @@
 // them: FULL (floats), QUANTIZED (every body on the grids) and DELTA (a key
 // frame of every body, or the change from the previous frame). net frames
 // them for its sessions; the NATS publisher sends them as they are. Only
-// the bodies are filled in: the caller sets the header (subscription id,
-// tick, sim time, sequence).
+// the bodies (and the joints, fill_joints) are filled in: the caller sets
+// the header (subscription id, tick, sim time, sequence).
 //
 // Thread: any; the functions keep no state.
 #pragma once
@@ -27,6 +27,10 @@ void fill_quantized(const std::vector<wire::QuantizedBody>& bodies, bool velocit
 
 // DELTA key frame: every body of `bodies` (sorted by id).
 void fill_delta_key(const std::vector<wire::QuantizedBody>& bodies, bool velocities, tumble::v1::PoseFrame* out);
+
+// The joints' states of `snapshot` (Subscribe.joints), whatever the
+// encoding; nothing when it holds none.
+void fill_joints(const sim::Snapshot& snapshot, tumble::v1::PoseFrame* out);
 
 // DELTA change: the bodies of `after` whose record differs from (or is
 // missing in) `before`, and the ids of `before` missing in `after`; both

@@ -42,7 +42,7 @@ sim::Status NatsWorld::start() {
   for (Stream& stream : streams_) {
     stream.period_ticks = static_cast<std::uint32_t>(std::clamp(std::round(tick_rate / stream.spec.rate_hz), 1.0, 1e6));
     stream.last_tick = sim_.tick();
-    interest.push_back({stream.period_ticks, true, {}});
+    interest.push_back({stream.period_ticks, true, {}, stream.spec.joints});
   }
   source_ = sim_.add_publish_source();
   sim_.set_publish_interest(std::move(interest), 0, source_);
@@ -112,6 +112,7 @@ tumble::v1::WorldInfo NatsWorld::world_info() const {
     stream.set_encoding(spec.encoding);
     stream.set_rate_hz(spec.rate_hz);
     stream.set_fields(spec.velocities ? tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY : tumble::v1::POSE_FIELDS_POSE);
+    stream.set_joints(spec.joints);
     if (spec.encoding == tumble::v1::POSE_ENCODING_DELTA) {
       stream.set_key_interval_s(config_.key_interval_s);
       stream.set_rest_key_interval_s(config_.rest_key_interval_s);
@@ -163,6 +164,8 @@ void NatsWorld::publish(const sim::Snapshot& snapshot) {
          (snapshot.tick % stream.period_ticks == 0 || snapshot.tick - stream.last_tick > stream.period_ticks)) ||
         (snapshot.out_of_band && snapshot.tick >= stream.last_tick) || !stream.any_frame;
     if (!regular) continue;
+    // Taken before the sim knew of this source's interest: the next one has them.
+    if (stream.spec.joints && !snapshot.has_joints) continue;
     publish_frame(stream, snapshot);
     stream.last_tick = snapshot.tick;
     stream.any_frame = true;
@@ -199,6 +202,11 @@ void NatsWorld::publish_frame(Stream& stream, const sim::Snapshot& snapshot) {
       frame.set_encoding(tumble::v1::POSE_ENCODING_FULL);
       frames::fill_full(snapshot, true, kNoFilter, velocities, &frame);
       break;
+  }
+  if (stream.spec.joints) {
+    stream.latest_joints.Clear();
+    frames::fill_joints(snapshot, &stream.latest_joints);
+    frame.MergeFrom(stream.latest_joints);
   }
   stream.latest_sequence = plan.sequence;
   stream.latest_tick = snapshot.tick;
@@ -268,6 +276,7 @@ void NatsWorld::answer_key(std::size_t index, const std::string& reply) {
   } else {
     frames::fill_quantized(stream.latest_bodies, stream.spec.velocities, &frame);
   }
+  frame.MergeFrom(stream.latest_joints);
   send_reply(reply, message, 0);
 }
 

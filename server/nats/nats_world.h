@@ -108,6 +108,7 @@ class NatsWorld {
     double latest_sim_time = 0;
     std::vector<wire::QuantizedBody> latest_bodies;
     std::string latest_full;
+    tumble::v1::PoseFrame latest_joints;       // its joints' states (spec.joints), in a frame of only those
     std::vector<wire::QuantizedBody> changed;  // scratch of the DELTA change
     std::chrono::steady_clock::time_point last_drop_log{};
     std::uint64_t drops_since_log = 0;

@@ -65,11 +65,20 @@ std::variant<StreamSpec, std::string> parse_stream_spec(std::string_view text) {
   }
   spec.rate_hz = hz;
   if (colon != std::string_view::npos) {
-    const std::string_view fields = rest.substr(colon + 1);
+    std::string_view fields = rest.substr(colon + 1);
+    constexpr std::string_view kWithJoints = ",joints";
+    if (fields == "joints") {
+      spec.joints = true;
+      fields = "pose";
+    } else if (fields.ends_with(kWithJoints)) {
+      spec.joints = true;
+      fields.remove_suffix(kWithJoints.size());
+    }
     if (fields == "all") {
       spec.velocities = true;
     } else if (fields != "pose") {
-      return quoted + "fields '" + std::string(fields) + "' are not pose or all";
+      return quoted + "fields '" + std::string(rest.substr(colon + 1)) +
+             "' are not pose or all, with ,joints or without, nor joints";
     }
   }
   return spec;

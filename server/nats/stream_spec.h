@@ -26,6 +26,7 @@ struct StreamSpec {
   tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_QUANTIZED;
   double rate_hz = 60;      // > 0; rounded to a divisor of the tick rate when published
   bool velocities = false;  // fields `all` (POSE_FIELDS_POSE_AND_VELOCITY); `pose` by default
+  bool joints = false;      // fields with `joints`: every joint's state too (Subscribe.joints)
 };
 
 // Why a name is refused ("must be ..."), or nullopt when it may be used.
@@ -36,7 +37,8 @@ std::optional<std::string> check_stream_name(std::string_view name, std::string_
 std::optional<std::string> check_bucket_name(std::string_view name);
 
 // Parses NAME=ENCODING@HZ[:fields] (ENCODING: full | quantized | delta;
-// HZ: a number in (0, 10000]; fields: pose | all); else the reason.
+// HZ: a number in (0, 10000]; fields: pose | all | joints, or pose or all
+// with joints after a comma, e.g. all,joints); else the reason.
 std::variant<StreamSpec, std::string> parse_stream_spec(std::string_view text);
 
 // The subjects of a world.

@@ -15,6 +15,7 @@ tumble::v1::ServerMessage delta_message(const QuantizedFrame& frame) {
   out.set_tick(frame.tick);
   out.set_sim_time(frame.sim_time);
   out.set_encoding(tumble::v1::POSE_ENCODING_DELTA);
+  out.MergeFrom(frame.joints);  // the joints' states go whole in every frame
   return message;
 }
 

@@ -48,6 +48,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
   bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
   const bool all_bodies = request.bodies_size() == 0;
   const bool velocities = request.fields() != tumble::v1::POSE_FIELDS_POSE;
+  const bool joints = request.joints();
   const tumble::v1::PoseEncoding encoding = request.encoding();
   std::uint32_t event_kinds = 0;
   for (const int kind : request.events()) event_kinds |= kind_bit(kind);
@@ -61,7 +62,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
 
   auto it = std::find_if(streams_.begin(), streams_.end(), [&](const Stream& s) {
     return s.all_bodies == all_bodies && s.bodies == bodies && s.period_ticks == period && s.velocities == velocities &&
-           s.event_kinds == event_kinds && s.encoding == encoding;
+           s.joints == joints && s.event_kinds == event_kinds && s.encoding == encoding;
   });
   if (it == streams_.end()) {
     Stream stream;
@@ -70,6 +71,7 @@ std::variant<Subscription, sim::RequestError> Publisher::subscribe(const std::sh
     stream.bodies = std::move(bodies);
     stream.period_ticks = period;
     stream.velocities = velocities;
+    stream.joints = joints;
     stream.encoding = encoding;
     stream.event_kinds = event_kinds;
     stream.last_tick = sim_.tick();
@@ -206,7 +208,7 @@ void Publisher::publish(const sim::Snapshot& snapshot) {
          (snapshot.tick % stream.period_ticks == 0 || snapshot.tick - stream.last_tick > stream.period_ticks)) ||
         (snapshot.out_of_band && snapshot.tick >= stream.last_tick);
     if (!regular && stream.awaiting_first.empty()) continue;
-    if (!snapshot.covers(stream.all_bodies, stream.bodies)) {
+    if (!snapshot.covers(stream.all_bodies, stream.bodies, stream.joints)) {
       // A larger snapshot of this tick follows; or this one was
       // taken before the sim knew of the stream, or the stream's own was
       // superseded in the handoff: the next one then holds every body, and
@@ -232,6 +234,7 @@ void Publisher::send_frame(Stream& stream, const sim::Snapshot& snapshot, const 
     frame->velocities = stream.velocities;
     frame->bodies = stream.memo.quantize(snapshot, stream.all_bodies, stream.bodies, stream.velocities);
     frame->sequence = ++stream.frames_made;
+    if (stream.joints) frames::fill_joints(snapshot, &frame->joints);
     fanout.delta = std::move(frame);
   } else {
     fanout.bytes = encode(stream, snapshot);
@@ -281,6 +284,7 @@ std::shared_ptr<const std::string> Publisher::encode(Stream& stream, const sim::
   } else {
     frames::fill_full(snapshot, stream.all_bodies, stream.bodies, stream.velocities, &frame);
   }
+  if (stream.joints) frames::fill_joints(snapshot, &frame);
   return std::make_shared<const std::string>(wire::encode_frame(message));
 }
 
@@ -297,9 +301,10 @@ void Publisher::update_sim_interest() {
       return i.period_ticks == stream.period_ticks && publishes_early(i.all_bodies, i.bodies) == stream_small;
     });
     if (it == interest.end()) {
-      interest.push_back({stream.period_ticks, stream.all_bodies, stream.bodies});
+      interest.push_back({stream.period_ticks, stream.all_bodies, stream.bodies, stream.joints});
       continue;
     }
+    it->joints = it->joints || stream.joints;
     if (it->all_bodies) continue;
     if (stream.all_bodies) {
       it->all_bodies = true;

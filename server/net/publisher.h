@@ -108,6 +108,7 @@ class Publisher {
     std::vector<physics::BodyId> bodies;  // sorted, when !all_bodies
     std::uint32_t period_ticks = 1;
     bool velocities = true;  // POSE_FIELDS_POSE_AND_VELOCITY
+    bool joints = false;     // Subscribe.joints
     tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;
     std::uint32_t event_kinds = 0;  // bit k set: events of tumble.v1.WorldEventKind k
     std::uint64_t last_tick = 0;    // tick of the last regular frame

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "tumble/v1/protocol.pb.h"
 #include "wire/quantized_poses.h"
 
 namespace tumble::net {
@@ -28,6 +29,10 @@ struct QuantizedFrame {
   bool velocities = false;
   std::vector<wire::QuantizedBody> bodies;  // sorted by id
   std::uint64_t sequence = 0;               // 1, 2, 3, ... for the frames of one stream, in the order they were made
+  // Subscribe.joints: a PoseFrame holding only the joints' states
+  // (frames::fill_joints), merged into every encoding of this frame, key
+  // or change alike.
+  tumble::v1::PoseFrame joints;
 
   // Framed ServerMessages, filled by the first session that needs each.
   mutable std::shared_ptr<const std::string> key_bytes;     // this frame as a key frame

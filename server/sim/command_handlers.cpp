@@ -585,7 +585,7 @@ std::optional<ServerMessage> Simulation::step(Command& command) {
   return std::nullopt;
 }
 
-void Simulation::fill_step_frame(tumble::v1::PoseFields fields, tumble::v1::PoseFrame* frame) const {
+void Simulation::fill_step_frame(tumble::v1::PoseFields fields, bool joints, tumble::v1::PoseFrame* frame) const {
   frame->set_tick(next_tick_);
   frame->set_sim_time(time_of(next_tick_));
   frame->set_encoding(tumble::v1::POSE_ENCODING_FULL);
@@ -622,6 +622,17 @@ void Simulation::fill_step_frame(tumble::v1::PoseFields fields, tumble::v1::Pose
       add3(world_.angular_velocity(id), frame->mutable_angular_velocities());
     }
   }
+  if (!joints) return;
+  std::vector<physics::JointId> by_id(world_.joint_count());
+  for (std::size_t i = 0; i < by_id.size(); ++i) by_id[i] = world_.joint_id_at(i);
+  std::sort(by_id.begin(), by_id.end());
+  for (const physics::JointId id : by_id) {
+    const physics::JointState state = world_.joint_state(id);
+    frame->add_joint_ids(id);
+    frame->add_joint_positions(static_cast<float>(state.position));
+    frame->add_joint_speeds(static_cast<float>(state.speed));
+    frame->add_joint_motor_impulses(static_cast<float>(state.motor_impulse));
+  }
 }
 
 void Simulation::end_step(tumble::v1::StepEnd end) {
@@ -634,7 +645,9 @@ void Simulation::end_step(tumble::v1::StepEnd end) {
   reply.mutable_ack()->set_step_ticks_left(steps_left_);
   reply.mutable_ack()->set_step_ended_by(end);
   const tumble::v1::Step& step = step_command_.message.step();
-  if (step.reply_frame()) fill_step_frame(step.frame_fields(), reply.mutable_ack()->mutable_frame());
+  if (step.reply_frame()) {
+    fill_step_frame(step.frame_fields(), step.frame_joints(), reply.mutable_ack()->mutable_frame());
+  }
   steps_left_ = 0;
   step_loads_.clear();
   step_frame_bodies_.clear();

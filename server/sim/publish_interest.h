@@ -22,6 +22,7 @@ struct PublishInterest {
   std::uint32_t period_ticks = 1;       // > 0
   bool all_bodies = true;               // every body, whatever `bodies` holds
   std::vector<physics::BodyId> bodies;  // sorted, unique; read when !all_bodies
+  bool joints = false;                  // the state of every joint as well
 };
 
 // Whether an interest (or a stream) of `body_count` bodies, or of every body

@@ -280,6 +280,7 @@ void Simulation::pass(Clock::duration step_budget) {
     if (edited_ && sleep_.watching()) sleep_.scan(world_, directory_, next_tick_, &events_);
     flush_events();
     const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
+    take_interest();  // no plan here: whether the joints are wanted
     if (edited_ || requested) publish(nullptr, edited_);
     edited_ = false;
   }
@@ -330,21 +331,24 @@ void Simulation::flush_events() {
   events_.clear();
 }
 
-PublishPlan::Due Simulation::plan_publish() {
-  {
-    std::lock_guard lock(interest_mutex_);
-    if (interest_changed_) {
-      // The union of the sources: the plan publishes for each interest alike.
-      std::vector<PublishInterest> merged;
-      std::size_t early_bodies = 0;
-      for (const SourceInterest& source : sources_) {
-        merged.insert(merged.end(), source.interest.begin(), source.interest.end());
-        if (!source.interest.empty()) early_bodies = std::max(early_bodies, source.early_bodies);
-      }
-      plan_.set_interests(std::move(merged), early_bodies);
-      interest_changed_ = false;
-    }
+void Simulation::take_interest() {
+  std::lock_guard lock(interest_mutex_);
+  if (!interest_changed_) return;
+  // The union of the sources: the plan publishes for each interest alike.
+  std::vector<PublishInterest> merged;
+  std::size_t early_bodies = 0;
+  joints_wanted_ = false;
+  for (const SourceInterest& source : sources_) {
+    merged.insert(merged.end(), source.interest.begin(), source.interest.end());
+    if (!source.interest.empty()) early_bodies = std::max(early_bodies, source.early_bodies);
+    for (const PublishInterest& interest : source.interest) joints_wanted_ = joints_wanted_ || interest.joints;
   }
+  plan_.set_interests(std::move(merged), early_bodies);
+  interest_changed_ = false;
+}
+
+PublishPlan::Due Simulation::plan_publish() {
+  take_interest();
   const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
   return plan_.plan(next_tick_, world_.body_count(), requested);
 }
@@ -352,6 +356,9 @@ PublishPlan::Due Simulation::plan_publish() {
 void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows) {
   if (listeners_.empty()) return;
   auto snapshot = std::make_shared<Snapshot>();
+  // Every snapshot carries the joints while a stream wants them (they are
+  // few beside the bodies): a stream of joints is then served from any.
+  if (joints_wanted_) copy_joints(*snapshot);
   snapshot->tick = next_tick_;
   snapshot->sim_time = time_of(next_tick_);
   snapshot->out_of_band = out_of_band;
@@ -394,6 +401,24 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
     o[3] = q.z();
   }
   hand_over(std::move(snapshot));
+}
+
+void Simulation::copy_joints(Snapshot& snapshot) {
+  snapshot.has_joints = true;
+  const std::size_t n = world_.joint_count();
+  joint_order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) joint_order_[i] = world_.joint_id_at(i);
+  std::sort(joint_order_.begin(), joint_order_.end());
+  snapshot.joint_ids = joint_order_;
+  snapshot.joint_positions.resize(n);
+  snapshot.joint_speeds.resize(n);
+  snapshot.joint_motor_impulses.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const physics::JointState state = world_.joint_state(joint_order_[i]);
+    snapshot.joint_positions[i] = state.position;
+    snapshot.joint_speeds[i] = state.speed;
+    snapshot.joint_motor_impulses[i] = state.motor_impulse;
+  }
 }
 
 void Simulation::hand_over(std::shared_ptr<const Snapshot> snapshot) {

@@ -218,14 +218,20 @@ class Simulation {
   // countdown, events and the snapshot if due.
   void advance();
   // Publishes a snapshot of `bodies` (sorted), or of every body when null
-  // or when they are most of the world; more_follows: a larger snapshot of
-  // this tick comes next.
+  // or when they are most of the world, with every joint's state when a
+  // stream wants it; more_follows: a larger snapshot of this tick comes
+  // next.
   void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
+  // Copies every joint's state into the snapshot, in ascending id order.
+  void copy_joints(Snapshot& snapshot);
   // Gives a snapshot to every listener.
   void hand_over(std::shared_ptr<const Snapshot> snapshot);
   // Takes up the latest interest and a requested snapshot, and plans the
   // snapshots of this tick in plan_.
   PublishPlan::Due plan_publish();
+  // Takes up the sources' interests in plan_ and joints_wanted_ if they
+  // changed.
+  void take_interest();
 
   void flush_events();
   void set_directory(BodyDirectory directory);
@@ -275,8 +281,9 @@ class Simulation {
   // left (steps_left_), `end` and, when it asked, the frame of that tick,
   // and forgets it and its loads.
   void end_step(tumble::v1::StepEnd end);
-  // The FULL PoseFrame of step_frame_bodies_ (empty: every body) as they are now.
-  void fill_step_frame(tumble::v1::PoseFields fields, tumble::v1::PoseFrame* frame) const;
+  // The FULL PoseFrame of step_frame_bodies_ (empty: every body) as they
+  // are now, with every joint's state when `joints`.
+  void fill_step_frame(tumble::v1::PoseFields fields, bool joints, tumble::v1::PoseFrame* frame) const;
   ServerMessage reset(const ClientMessage& message);
   ServerMessage set_tick_rate(const ClientMessage& message);
   ServerMessage stats(const ClientMessage& message) const;
@@ -303,6 +310,8 @@ class Simulation {
   BodyLoads step_loads_;                            // the Step under way's own forces and torques, dropped when it ends
   std::vector<physics::BodyId> step_frame_bodies_;  // Step.frame_bodies, resolved; empty: every body
   bool edited_ = false;                             // the world was edited since the last snapshot
+  bool joints_wanted_ = false;                      // a stream wants the joints' states (PublishInterest::joints)
+  std::vector<physics::JointId> joint_order_;       // scratch: the joints by id, for a snapshot
   std::uint64_t bodies_diverged_ = 0;               // removed by remove_diverged() since the start
   SleepWatch sleep_;                                // watching while sleep_events_wanted_
   WorldEvents events_;                              // of the tick being made

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tumble/physics/body.h"
+#include "tumble/physics/joint.h"
 
 namespace tumble::sim {
 
@@ -23,6 +24,14 @@ struct Snapshot {
   std::vector<double> orientations;        // unit quaternions, w x y z
   std::vector<double> linear_velocities;   // m/s
   std::vector<double> angular_velocities;  // rad/s
+  // When a stream asked for joints (PublishInterest::joints): every joint,
+  // in ascending id order, with its position (rad or m), speed (rad/s or
+  // m/s) and motor impulse over the step (N m s or N s) at i.
+  bool has_joints = false;
+  std::vector<physics::JointId> joint_ids;
+  std::vector<double> joint_positions;
+  std::vector<double> joint_speeds;
+  std::vector<double> joint_motor_impulses;
   // The world was edited while paused (spawn, remove, set, impulse, reset):
   // every subscription gets this frame although its tick is not new.
   bool out_of_band = false;
@@ -38,9 +47,10 @@ struct Snapshot {
   std::size_t body_count() const { return ids.size(); }
 
   // Whether the frame of a stream of every body (all) or of the sorted
-  // `bodies` can be made from this snapshot: a body asked for and missing
-  // from it is then one that has left the world.
-  bool covers(bool all, const std::vector<physics::BodyId>& bodies) const {
+  // `bodies`, with the joints or without, can be made from this snapshot: a
+  // body asked for and missing from it is then one that has left the world.
+  bool covers(bool all, const std::vector<physics::BodyId>& bodies, bool joints = false) const {
+    if (joints && !has_joints) return false;
     if (all_bodies) return true;
     return !all && std::includes(wanted.begin(), wanted.end(), bodies.begin(), bodies.end());
   }

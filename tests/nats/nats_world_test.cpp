@@ -3,6 +3,8 @@
 // arrives over NATS (and TCP), on ticks and sequences, never on wall time.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
@@ -243,6 +245,62 @@ TEST_F(NatsWorld, AKeyRequestAnswersTheLatestFrameWholeWithItsSequence) {
     }
     return false;
   }));
+}
+
+// A plank on a hinge from the world, level, so it swings.
+const char* const kHingeScene = R"({"bodies": [
+    {"name": "plank", "shape": {"box": {"half_extents": [0.5, 0.05, 0.05]}}, "mass": 2, "position": [0.5, 2, 0]}],
+  "joints": [
+    {"name": "hinge", "type": "hinge", "body_a": "world", "body_b": "plank", "anchor": [0, 2, 0], "axis": [0, 0, 1]}]})";
+
+TEST_F(NatsWorld, AStreamWithJointsCarriesTheirStateInEveryFrameAndInItsKeyAnswer) {
+  TumbledProcess tumbled(kHingeScene, {"--nats", nats_.url(), "--world", "lab", "--nats-stream", "dj=delta@60:joints",
+                                       "--nats-stream", "f=full@60"});
+  ASSERT_TRUE(tumbled.started()) << tumbled.log();
+  NatsTestClient client(nats_.url());
+  ASSERT_TRUE(wait_connected(client));
+  const std::vector<std::string> replies = client.request_many("tumble.v1.worlds", "");
+  ASSERT_EQ(replies.size(), 1u);
+  tumble::v1::WorldInfo info;
+  ASSERT_TRUE(info.ParseFromString(replies[0]));
+  ASSERT_EQ(info.streams_size(), 2);
+  EXPECT_TRUE(info.streams(0).joints());
+  EXPECT_FALSE(info.streams(1).joints());
+
+  auto with_joints = client.subscribe("tumble.v1.lab.poses.dj");
+  auto without = client.subscribe("tumble.v1.lab.poses.f");
+  ASSERT_TRUE(with_joints && without);
+  ASSERT_TRUE(with_joints->wait_count(5) && without->wait_count(2));
+  // Every frame, key or change, has the hinge's state; the plank swings.
+  double fastest = 0;
+  for (const NatsMessage& m : with_joints->messages()) {
+    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    ASSERT_EQ(frame.joint_ids_size(), 1) << "sequence " << frame.sequence();
+    EXPECT_EQ(frame.joint_ids(0), 0u);
+    ASSERT_EQ(frame.joint_speeds_size(), 1);
+    fastest = std::max(fastest, static_cast<double>(std::abs(frame.joint_speeds(0))));
+  }
+  EXPECT_GT(fastest, 0.1);
+  for (const NatsMessage& m : without->messages()) EXPECT_EQ(parse(m.data).pose_frame().joint_ids_size(), 0);
+
+  // The key answer is the latest frame whole: its joints are that frame's.
+  auto reply = client.request("tumble.v1.lab.key.dj", "");
+  ASSERT_TRUE(reply) << client.error();
+  const tumble::v1::PoseFrame key = parse(*reply).pose_frame();
+  ASSERT_EQ(key.joint_ids_size(), 1);
+  ASSERT_TRUE(with_joints->wait([&](const std::vector<NatsMessage>& messages) {
+    for (const NatsMessage& m : messages) {
+      if (parse(m.data).pose_frame().sequence() == key.sequence()) return true;
+    }
+    return false;
+  }));
+  for (const NatsMessage& m : with_joints->messages()) {
+    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    if (frame.sequence() != key.sequence()) continue;
+    EXPECT_EQ(frame.tick(), key.tick());
+    EXPECT_EQ(frame.joint_positions(0), key.joint_positions(0));
+    EXPECT_EQ(frame.joint_speeds(0), key.joint_speeds(0));
+  }
 }
 
 TEST_F(NatsWorld, QueryAnswersReadsAsAnObserverAndRefusesCommandsChangingNothing) {

@@ -32,15 +32,31 @@ TEST(StreamSpec, ParsesNameEncodingRateAndFields) {
   EXPECT_EQ(std::get<StreamSpec>(plain).encoding, tumble::v1::POSE_ENCODING_QUANTIZED);
   EXPECT_FALSE(std::get<StreamSpec>(plain).velocities);
   EXPECT_DOUBLE_EQ(std::get<StreamSpec>(parse_stream_spec("f=full@12.5")).rate_hz, 12.5);
+  EXPECT_FALSE(std::get<StreamSpec>(plain).joints);
+  for (const auto& [text, velocities] :
+       {std::pair{"j=full@30:all,joints", true}, std::pair{"j=delta@30:pose,joints", false},
+        std::pair{"j=quantized@30:joints", false}}) {
+    const auto with_joints = parse_stream_spec(text);
+    ASSERT_TRUE(std::holds_alternative<StreamSpec>(with_joints)) << std::get<std::string>(with_joints);
+    EXPECT_TRUE(std::get<StreamSpec>(with_joints).joints) << text;
+    EXPECT_EQ(std::get<StreamSpec>(with_joints).velocities, velocities) << text;
+  }
 }
 
 TEST(StreamSpec, EachBadPartIsNamed) {
   const std::pair<const char*, const char*> cases[] = {
-      {"q60", "does not parse"},        {"q60=quantized", "does not parse"},
-      {"q.1=full@5", "stream name"},    {"=full@5", "stream name"},
-      {"q=zip@5", "encoding 'zip'"},    {"q=full@0", "rate '0'"},
-      {"q=full@fast", "rate 'fast'"},   {"q=full@1e9", "rate"},
-      {"q=full@5:vel", "fields 'vel'"}, {"q=full@5x", "rate '5x'"},
+      {"q60", "does not parse"},
+      {"q60=quantized", "does not parse"},
+      {"q.1=full@5", "stream name"},
+      {"=full@5", "stream name"},
+      {"q=zip@5", "encoding 'zip'"},
+      {"q=full@0", "rate '0'"},
+      {"q=full@fast", "rate 'fast'"},
+      {"q=full@1e9", "rate"},
+      {"q=full@5:vel", "fields 'vel'"},
+      {"q=full@5x", "rate '5x'"},
+      {"q=full@5:joints,all", "fields 'joints,all'"},
+      {"q=full@5:all,", "fields 'all,'"},
   };
   for (const auto& [text, expected] : cases) {
     const auto spec = parse_stream_spec(text);

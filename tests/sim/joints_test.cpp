@@ -16,6 +16,7 @@
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "sim/snapshot.h"
 #include "sim_driver.h"
 #include "temp_dir.h"
 
@@ -451,6 +452,38 @@ TEST(JointReplay, AJournalWithJointsReplaysToTheSameWorld) {
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_EQ(summary.commands, 3u);
   expect_same_bits(recorded.world(), replayed.world());
+}
+
+// Snapshots carry every joint's state, by id, while a stream asks for
+// joints, and none once no stream does.
+TEST(JointSnapshots, CarryEveryJointsStateWhileAStreamWantsThem) {
+  Driver driver(make_sim(scene_with(kJoints, "[0, -9.81, 0]")));
+  std::vector<std::shared_ptr<const Snapshot>> snapshots;
+  driver.sim().add_snapshot_listener([&](std::shared_ptr<const Snapshot> s) { snapshots.push_back(std::move(s)); });
+  driver.sim().set_publish_interest({PublishInterest{1, true, {}, true}}, 64);
+  driver.run(3);
+  ASSERT_FALSE(snapshots.empty());
+  const Snapshot& with = *snapshots.back();
+  ASSERT_TRUE(with.has_joints);
+  const physics::World& world = driver.world();
+  ASSERT_EQ(with.joint_ids, (std::vector<physics::JointId>{0, 1, 2, 3, 4}));
+  ASSERT_EQ(with.joint_positions.size(), 5u);
+  for (std::size_t i = 0; i < with.joint_ids.size(); ++i) {
+    const physics::JointState state = world.joint_state(with.joint_ids[i]);
+    EXPECT_EQ(with.joint_positions[i], state.position) << i;
+    EXPECT_EQ(with.joint_speeds[i], state.speed) << i;
+    EXPECT_EQ(with.joint_motor_impulses[i], state.motor_impulse) << i;
+  }
+  EXPECT_NE(with.joint_motor_impulses[0], 0) << "the door's motor drives it";
+  EXPECT_TRUE(with.covers(true, {}, true));
+
+  driver.sim().set_publish_interest({PublishInterest{1, true, {}, false}}, 64);
+  driver.run(1);
+  const Snapshot& without = *snapshots.back();
+  EXPECT_FALSE(without.has_joints);
+  EXPECT_TRUE(without.joint_ids.empty());
+  EXPECT_FALSE(without.covers(true, {}, true)) << "a stream of joints waits for a snapshot with them";
+  EXPECT_TRUE(without.covers(true, {}, false));
 }
 
 }  // namespace

@@ -402,11 +402,15 @@ class Pause(_message.Message):
     def __init__(self) -> None: ...
 
 class PoseFrame(_message.Message):
-    __slots__ = ["angular_velocities", "encoding", "epoch", "ids", "key_frame", "linear_velocities", "orientations", "packed", "positions", "removed_ids", "sequence", "sim_time", "subscription_id", "tick"]
+    __slots__ = ["angular_velocities", "encoding", "epoch", "ids", "joint_ids", "joint_motor_impulses", "joint_positions", "joint_speeds", "key_frame", "linear_velocities", "orientations", "packed", "positions", "removed_ids", "sequence", "sim_time", "subscription_id", "tick"]
     ANGULAR_VELOCITIES_FIELD_NUMBER: _ClassVar[int]
     ENCODING_FIELD_NUMBER: _ClassVar[int]
     EPOCH_FIELD_NUMBER: _ClassVar[int]
     IDS_FIELD_NUMBER: _ClassVar[int]
+    JOINT_IDS_FIELD_NUMBER: _ClassVar[int]
+    JOINT_MOTOR_IMPULSES_FIELD_NUMBER: _ClassVar[int]
+    JOINT_POSITIONS_FIELD_NUMBER: _ClassVar[int]
+    JOINT_SPEEDS_FIELD_NUMBER: _ClassVar[int]
     KEY_FRAME_FIELD_NUMBER: _ClassVar[int]
     LINEAR_VELOCITIES_FIELD_NUMBER: _ClassVar[int]
     ORIENTATIONS_FIELD_NUMBER: _ClassVar[int]
@@ -421,6 +425,10 @@ class PoseFrame(_message.Message):
     encoding: PoseEncoding
     epoch: int
     ids: _containers.RepeatedScalarFieldContainer[int]
+    joint_ids: _containers.RepeatedScalarFieldContainer[int]
+    joint_motor_impulses: _containers.RepeatedScalarFieldContainer[float]
+    joint_positions: _containers.RepeatedScalarFieldContainer[float]
+    joint_speeds: _containers.RepeatedScalarFieldContainer[float]
     key_frame: bool
     linear_velocities: _containers.RepeatedScalarFieldContainer[float]
     orientations: _containers.RepeatedScalarFieldContainer[float]
@@ -431,7 +439,7 @@ class PoseFrame(_message.Message):
     sim_time: float
     subscription_id: int
     tick: int
-    def __init__(self, subscription_id: _Optional[int] = ..., tick: _Optional[int] = ..., sim_time: _Optional[float] = ..., ids: _Optional[_Iterable[int]] = ..., positions: _Optional[_Iterable[float]] = ..., orientations: _Optional[_Iterable[float]] = ..., linear_velocities: _Optional[_Iterable[float]] = ..., angular_velocities: _Optional[_Iterable[float]] = ..., encoding: _Optional[_Union[PoseEncoding, str]] = ..., packed: _Optional[bytes] = ..., key_frame: bool = ..., removed_ids: _Optional[_Iterable[int]] = ..., sequence: _Optional[int] = ..., epoch: _Optional[int] = ...) -> None: ...
+    def __init__(self, subscription_id: _Optional[int] = ..., tick: _Optional[int] = ..., sim_time: _Optional[float] = ..., ids: _Optional[_Iterable[int]] = ..., positions: _Optional[_Iterable[float]] = ..., orientations: _Optional[_Iterable[float]] = ..., linear_velocities: _Optional[_Iterable[float]] = ..., angular_velocities: _Optional[_Iterable[float]] = ..., encoding: _Optional[_Union[PoseEncoding, str]] = ..., packed: _Optional[bytes] = ..., key_frame: bool = ..., removed_ids: _Optional[_Iterable[int]] = ..., sequence: _Optional[int] = ..., epoch: _Optional[int] = ..., joint_ids: _Optional[_Iterable[int]] = ..., joint_positions: _Optional[_Iterable[float]] = ..., joint_speeds: _Optional[_Iterable[float]] = ..., joint_motor_impulses: _Optional[_Iterable[float]] = ...) -> None: ...
 
 class RemoveBody(_message.Message):
     __slots__ = ["body"]
@@ -560,34 +568,38 @@ class Stats(_message.Message):
     def __init__(self, request_id: _Optional[int] = ..., tick: _Optional[int] = ..., sim_time: _Optional[float] = ..., paused: bool = ..., tick_rate_hz: _Optional[float] = ..., real_time_factor: _Optional[float] = ..., tick_ms_p50: _Optional[float] = ..., tick_ms_p99: _Optional[float] = ..., overruns: _Optional[int] = ..., bodies: _Optional[int] = ..., bodies_awake: _Optional[int] = ..., bodies_asleep: _Optional[int] = ..., clients: _Optional[int] = ..., bytes_sent: _Optional[int] = ..., tick_cpu_ms_p50: _Optional[float] = ..., tick_cpu_ms_p99: _Optional[float] = ..., tick_start_late_ms_p50: _Optional[float] = ..., tick_start_late_ms_p99: _Optional[float] = ..., bodies_diverged: _Optional[int] = ..., connections_refused: _Optional[int] = ..., clients_closed_for_errors: _Optional[int] = ..., nats: _Optional[_Union[NatsLink, _Mapping]] = ..., checkpoints: _Optional[_Union[Checkpoints, _Mapping]] = ...) -> None: ...
 
 class Step(_message.Message):
-    __slots__ = ["forces", "frame_bodies", "frame_fields", "reply_frame", "ticks", "torques"]
+    __slots__ = ["forces", "frame_bodies", "frame_fields", "frame_joints", "reply_frame", "ticks", "torques"]
     FORCES_FIELD_NUMBER: _ClassVar[int]
     FRAME_BODIES_FIELD_NUMBER: _ClassVar[int]
     FRAME_FIELDS_FIELD_NUMBER: _ClassVar[int]
+    FRAME_JOINTS_FIELD_NUMBER: _ClassVar[int]
     REPLY_FRAME_FIELD_NUMBER: _ClassVar[int]
     TICKS_FIELD_NUMBER: _ClassVar[int]
     TORQUES_FIELD_NUMBER: _ClassVar[int]
     forces: _containers.RepeatedCompositeFieldContainer[ApplyForce]
     frame_bodies: _containers.RepeatedCompositeFieldContainer[BodyRef]
     frame_fields: PoseFields
+    frame_joints: bool
     reply_frame: bool
     ticks: int
     torques: _containers.RepeatedCompositeFieldContainer[ApplyTorque]
-    def __init__(self, ticks: _Optional[int] = ..., forces: _Optional[_Iterable[_Union[ApplyForce, _Mapping]]] = ..., torques: _Optional[_Iterable[_Union[ApplyTorque, _Mapping]]] = ..., reply_frame: bool = ..., frame_bodies: _Optional[_Iterable[_Union[BodyRef, _Mapping]]] = ..., frame_fields: _Optional[_Union[PoseFields, str]] = ...) -> None: ...
+    def __init__(self, ticks: _Optional[int] = ..., forces: _Optional[_Iterable[_Union[ApplyForce, _Mapping]]] = ..., torques: _Optional[_Iterable[_Union[ApplyTorque, _Mapping]]] = ..., reply_frame: bool = ..., frame_bodies: _Optional[_Iterable[_Union[BodyRef, _Mapping]]] = ..., frame_fields: _Optional[_Union[PoseFields, str]] = ..., frame_joints: bool = ...) -> None: ...
 
 class Subscribe(_message.Message):
-    __slots__ = ["bodies", "encoding", "events", "fields", "rate_hz"]
+    __slots__ = ["bodies", "encoding", "events", "fields", "joints", "rate_hz"]
     BODIES_FIELD_NUMBER: _ClassVar[int]
     ENCODING_FIELD_NUMBER: _ClassVar[int]
     EVENTS_FIELD_NUMBER: _ClassVar[int]
     FIELDS_FIELD_NUMBER: _ClassVar[int]
+    JOINTS_FIELD_NUMBER: _ClassVar[int]
     RATE_HZ_FIELD_NUMBER: _ClassVar[int]
     bodies: _containers.RepeatedCompositeFieldContainer[BodyRef]
     encoding: PoseEncoding
     events: _containers.RepeatedScalarFieldContainer[WorldEventKind]
     fields: PoseFields
+    joints: bool
     rate_hz: float
-    def __init__(self, bodies: _Optional[_Iterable[_Union[BodyRef, _Mapping]]] = ..., rate_hz: _Optional[float] = ..., fields: _Optional[_Union[PoseFields, str]] = ..., events: _Optional[_Iterable[_Union[WorldEventKind, str]]] = ..., encoding: _Optional[_Union[PoseEncoding, str]] = ...) -> None: ...
+    def __init__(self, bodies: _Optional[_Iterable[_Union[BodyRef, _Mapping]]] = ..., rate_hz: _Optional[float] = ..., fields: _Optional[_Union[PoseFields, str]] = ..., events: _Optional[_Iterable[_Union[WorldEventKind, str]]] = ..., encoding: _Optional[_Union[PoseEncoding, str]] = ..., joints: bool = ...) -> None: ...
 
 class Subscribed(_message.Message):
     __slots__ = ["encoding", "period_ticks", "position_step", "rate_hz", "request_id", "subscription_id"]
