@@ -433,9 +433,12 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
           ->type_name("N")
           ->check(CLI::Range(std::uint64_t{1}, std::numeric_limits<std::uint64_t>::max()));
   CLI::Option* fields_option =
-      subscribe->add_option("--fields", fields, "pose: positions and orientations; all: velocities too")
+      subscribe
+          ->add_option("--fields", fields,
+                       "pose: positions and orientations; all: velocities too; either with ,joints (or joints "
+                       "alone, for pose,joints): every joint's state too")
           ->capture_default_str()
-          ->check(CLI::IsMember({"pose", "all"}));
+          ->check(CLI::IsMember({"pose", "all", "joints", "pose,joints", "all,joints"}));
   CLI::Option* encoding_option = add_encoding_option(*subscribe, encoding);
   std::string subscribe_stream;
   CLI::Option* subscribe_stream_option = add_stream_option(*subscribe, subscribe_stream);
@@ -633,7 +636,8 @@ ParsedCommandLine parse_command_line(int argc, const char* const* argv) {
     for (const std::string& name : subscribe_bodies) command.bodies.push_back(body_ref(name));
     command.rate_hz = rate_hz;
     if (count_option->count() > 0) command.count = count;
-    command.poses_only = fields == "pose";
+    command.poses_only = fields == "pose" || fields == "joints" || fields == "pose,joints";
+    command.joints = fields.ends_with("joints");
     command.encoding = pose_encoding(encoding);
     command.events = events;
     command.stream = subscribe_stream;

@@ -108,6 +108,7 @@ struct SubscribeCommand {
   double rate_hz = 30;                      // 0: every tick
   std::optional<std::uint64_t> count;       // stop after this many frames; none: until interrupted
   bool poses_only = false;                  // --fields pose: no velocities
+  bool joints = false;                      // --fields ...,joints: every joint's state too
   tumble::v1::PoseEncoding encoding = tumble::v1::POSE_ENCODING_FULL;       // --encoding
   bool events = false;                                                      // --events: every kind of WorldEvent too
   std::string stream;                                                       // --stream: over NATS; "" for the first

@@ -378,7 +378,14 @@ std::string short_number(double value) {
 
 std::string stream_spec(const tumble::v1::NatsStreamInfo& stream) {
   std::string spec = stream.name() + "=" + encoding_name(stream.encoding()) + "@" + short_number(stream.rate_hz());
-  if (stream.fields() == tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY) spec += ":all";
+  const bool all = stream.fields() == tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY;
+  if (all && stream.joints()) {
+    spec += ":all,joints";
+  } else if (all) {
+    spec += ":all";
+  } else if (stream.joints()) {
+    spec += ":joints";
+  }
   return spec;
 }
 
@@ -435,6 +442,7 @@ Json world_info_json(const tumble::v1::WorldInfo& info) {
     entry["encoding"] = encoding_name(stream.encoding());
     entry["rate_hz"] = stream.rate_hz();
     entry["fields"] = fields_name(stream.fields());
+    entry["joints"] = stream.joints();
     entry["key_interval_s"] = stream.key_interval_s();
     entry["rest_key_interval_s"] = stream.rest_key_interval_s();
     streams.push_back(std::move(entry));
@@ -677,6 +685,10 @@ std::string format_pose_sample(const client::PoseSample& sample, const BodyNames
     }
     out += "\n";
   }
+  for (const client::JointSample& joint : sample.joints) {
+    out += "  joint #" + std::to_string(joint.id) + "  position " + fixed(joint.position, 3) + "  speed " +
+           fixed(joint.speed, 3) + "  motor impulse " + fixed(joint.motor_impulse, 3) + "\n";
+  }
   return out;
 }
 
@@ -698,6 +710,16 @@ Json pose_sample_json(const client::PoseSample& sample, const BodyNames& names) 
   out["tick"] = sample.tick;
   out["time"] = sample.sim_time;
   out["bodies"] = std::move(bodies);
+  if (!sample.joints.empty()) {
+    Json joints = Json::array();
+    for (const client::JointSample& joint : sample.joints) {
+      joints.push_back({{"id", joint.id},
+                        {"position", joint.position},
+                        {"speed", joint.speed},
+                        {"motor_impulse", joint.motor_impulse}});
+    }
+    out["joints"] = std::move(joints);
+  }
   return out;
 }
 

@@ -140,13 +140,15 @@ Json joint_list_json(const tumble::v1::JointList& list);
 
 // "tick 1234  t=5.142s\n", then one line per body:
 // "  crate  pos (x, y, z)  quat [w, x, y, z]  v (x, y, z)  w (x, y, z)\n"
-// (without v and w for a pose-only sample). Bodies without a known name
-// show as #id.
+// (without v and w for a pose-only sample), then one line per joint when
+// the subscription asked for them: "  joint #3  position 0.250  speed
+// 0.500  motor impulse 0.000\n". Bodies without a known name show as #id.
 std::string format_pose_sample(const client::PoseSample& sample, const BodyNames& names);
 
 // {"tick": N, "time": S, "bodies": [{"id", "name", "position",
 // "orientation", "linear_velocity", "angular_velocity"}, ...]}; "name" is ""
-// when unknown; no velocities for a pose-only sample.
+// when unknown; no velocities for a pose-only sample. With joints, also
+// "joints": [{"id", "position", "speed", "motor_impulse"}, ...].
 Json pose_sample_json(const client::PoseSample& sample, const BodyNames& names);
 
 // The table `tumble watch` draws: "tick 1234  t=5.142s\n", then a header

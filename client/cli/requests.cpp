@@ -60,6 +60,7 @@ tumble::v1::Subscribe make_subscribe(const SubscribeCommand& command) {
   for (const tumble::v1::BodyRef& body : command.bodies) *request.add_bodies() = body;
   request.set_rate_hz(command.rate_hz);
   request.set_fields(command.poses_only ? tumble::v1::POSE_FIELDS_POSE : tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
+  request.set_joints(command.joints);
   request.set_encoding(command.encoding);
   if (command.events) {
     for (const auto kind :

@@ -150,6 +150,26 @@ TEST(CommandLine, SubscribeDefaults) {
   EXPECT_EQ(subscribe.encoding, tumble::v1::POSE_ENCODING_FULL);
 }
 
+TEST(CommandLine, SubscribeFieldsMayAddTheJoints) {
+  const struct {
+    const char* fields;
+    bool poses_only;
+    bool joints;
+  } cases[] = {{"all", false, false},
+               {"pose", true, false},
+               {"all,joints", false, true},
+               {"pose,joints", true, true},
+               {"joints", true, true}};
+  for (const auto& c : cases) {
+    const auto subscribe = parse_command<SubscribeCommand>({"subscribe", "--fields", c.fields});
+    EXPECT_EQ(subscribe.poses_only, c.poses_only) << c.fields;
+    EXPECT_EQ(subscribe.joints, c.joints) << c.fields;
+    EXPECT_EQ(make_subscribe(subscribe).joints(), c.joints) << c.fields;
+  }
+  EXPECT_FALSE(parse_command<SubscribeCommand>({"subscribe"}).joints);
+  expect_usage_error({"subscribe", "--fields", "joints,all"});
+}
+
 TEST(CommandLine, SubscribeEncodings) {
   EXPECT_EQ(parse_command<SubscribeCommand>({"subscribe", "--encoding", "quantized"}).encoding,
             tumble::v1::POSE_ENCODING_QUANTIZED);

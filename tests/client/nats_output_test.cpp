@@ -31,6 +31,7 @@ tumble::v1::WorldInfo demo_world() {
   d->set_fields(tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY);
   d->set_key_interval_s(1);
   d->set_rest_key_interval_s(30);
+  d->set_joints(true);
   return info;
 }
 
@@ -43,7 +44,7 @@ TEST(WorldsOutput, ATableOfWorldsWithTheirStreamsAsTheServerSpellsThem) {
   lab.clear_streams();
   EXPECT_EQ(format_world_table({demo_world(), lab}),
             "WORLD        TICK  RATE (Hz)  BODIES  STREAMS\n"
-            "demo        12345        240     901  q60=quantized@60 d12=delta@12.5:all\n"
+            "demo        12345        240     901  q60=quantized@60 d12=delta@12.5:all,joints\n"
             "lab    7 (paused)        240       3  -\n");
   EXPECT_EQ(format_world_table({}), "no worlds answered\n");
 }
@@ -54,9 +55,10 @@ TEST(WorldsOutput, OneJsonObjectPerWorld) {
       "{\"world\": \"demo\", \"tick\": 12345, \"tick_rate_hz\": 240.0, \"bodies\": 901, \"paused\": false, "
       "\"version\": \"0.1.0\", \"server_id\": \"a1b2\", \"streams\": [{\"name\": \"q60\", \"subject\": "
       "\"tumble.v1.demo.poses.q60\", \"encoding\": \"quantized\", \"rate_hz\": 60.0, \"fields\": \"pose\", "
-      "\"key_interval_s\": 0.0, \"rest_key_interval_s\": 0.0}, {\"name\": \"d12\", \"subject\": "
+      "\"joints\": false, \"key_interval_s\": 0.0, \"rest_key_interval_s\": 0.0}, {\"name\": \"d12\", \"subject\": "
       "\"tumble.v1.demo.poses.d12\", \"encoding\": "
-      "\"delta\", \"rate_hz\": 12.5, \"fields\": \"all\", \"key_interval_s\": 1.0, \"rest_key_interval_s\": 30.0}], "
+      "\"delta\", \"rate_hz\": 12.5, \"fields\": \"all\", \"joints\": true, \"key_interval_s\": 1.0, "
+      "\"rest_key_interval_s\": 30.0}], "
       "\"events_subject\": "
       "\"tumble.v1.demo.events\", \"rpc_subject\": \"tumble.v1.demo.rpc\", \"query_subject\": "
       "\"tumble.v1.demo.query\", \"epoch\": 0, \"standby\": false, \"leader_id\": \"\"}\n");

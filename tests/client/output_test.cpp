@@ -109,6 +109,22 @@ TEST(PoseSampleJson, NonFiniteValuesBecomeNull) {
   EXPECT_EQ(json["bodies"][0]["position"][0], 1.0);
 }
 
+TEST(PoseSampleText, JointsFollowTheBodiesOneLineEach) {
+  client::PoseSample sample = two_body_sample();
+  sample.joints = {{3, 0.25f, -0.5f, 0.0f}, {7, 1.5f, 0.0f, 0.125f}};
+  const std::string text = format_pose_sample(sample, {});
+  EXPECT_NE(text.find("\n  joint #3  position 0.250  speed -0.500  motor impulse 0.000\n"
+                      "  joint #7  position 1.500  speed 0.000  motor impulse 0.125\n"),
+            std::string::npos)
+      << text;
+  const nlohmann::json json = nlohmann::json::parse(json_line(pose_sample_json(sample, {})));
+  ASSERT_EQ(json["joints"].size(), 2u);
+  EXPECT_EQ(json["joints"][1]["id"], 7);
+  EXPECT_EQ(json["joints"][0]["speed"], -0.5);
+  EXPECT_EQ(json["joints"][1]["motor_impulse"], 0.125);
+  EXPECT_FALSE(nlohmann::json::parse(json_line(pose_sample_json(two_body_sample(), {}))).contains("joints"));
+}
+
 TEST(PoseSampleText, HeaderAndOneLinePerBody) {
   const std::string text = format_pose_sample(two_body_sample(), {{4, "crate"}});
   std::istringstream lines(text);

@@ -67,6 +67,30 @@ TEST(UnpackPoseFrame, RejectsArraysOfTheWrongLength) {
   EXPECT_FALSE(unpack_pose_frame(frame).ok());
 }
 
+TEST(UnpackPoseFrame, JointsComeWithTheirStatesAndMustMatchTheirIds) {
+  tumble::v1::PoseFrame frame = two_body_frame();
+  for (std::uint32_t id : {2u, 5u}) {
+    frame.add_joint_ids(id);
+    frame.add_joint_positions(0.5f * static_cast<float>(id));
+    frame.add_joint_speeds(-1.0f);
+    frame.add_joint_motor_impulses(0.25f);
+  }
+  auto sample = unpack_pose_frame(frame);
+  ASSERT_TRUE(sample.ok()) << sample.failure().message;
+  ASSERT_EQ(sample->joints.size(), 2u);
+  EXPECT_EQ(sample->joints[1].id, 5u);
+  EXPECT_EQ(sample->joints[1].position, 2.5f);
+  EXPECT_EQ(sample->joints[0].speed, -1.0f);
+  EXPECT_EQ(sample->joints[0].motor_impulse, 0.25f);
+  EXPECT_EQ(sample->bodies.size(), 2u);
+
+  frame.mutable_joint_speeds()->RemoveLast();
+  sample = unpack_pose_frame(frame);
+  ASSERT_FALSE(sample.ok());
+  EXPECT_EQ(sample.failure().kind, FailureKind::protocol);
+  EXPECT_NE(sample.failure().message.find("joint"), std::string::npos) << sample.failure().message;
+}
+
 TEST(UnpackPoseFrame, APoseOnlyFrameHasNoVelocities) {
   tumble::v1::PoseFrame frame = two_body_frame();
   frame.clear_linear_velocities();

@@ -63,6 +63,36 @@ TEST_F(JointsCliTest, AHingeDrivenByItsMotorTurnsAndGoesAway) {
   expect_failure({"joint", "remove", "hinge"}, "UNKNOWN_JOINT");
 }
 
+// `subscribe --fields pose,joints` prints the joints' states with the
+// bodies: the same a `joints` listing of that tick shows, in float32.
+TEST_F(JointsCliTest, SubscribeWithJointsShowsTheirStateAtTheFramesTick) {
+  run_json({"pause"});
+  run_json({"joint", "add", "hinge", "--hinge", "world", "crate", "--anchor", "0", "0", "0", "--axis", "0", "1", "0"});
+  run_json({"motor", "hinge", "--speed", "1.5", "--max-torque", "100"});
+  run_json({"step", "60"});
+  const json list = run_json({"joints"});
+  const CommandResult subscribed =
+      server_.cli({"--json", "subscribe", "--fields", "pose,joints", "--bodies", "crate", "--count", "1"});
+  ASSERT_EQ(subscribed.exit_code, 0) << subscribed.err;
+  const json frame = json::parse(lines_of(subscribed.out).at(0));
+  EXPECT_EQ(frame["tick"], list["tick"]) << "paused: the frame shows the tick the listing did";
+  ASSERT_EQ(frame["joints"].size(), 1u) << frame.dump();
+  EXPECT_EQ(frame["joints"][0]["id"], 0);
+  const json& state = list["joints"][0]["state"];
+  EXPECT_EQ(frame["joints"][0]["position"].get<double>(),
+            static_cast<double>(static_cast<float>(state["position"].get<double>())));
+  EXPECT_EQ(frame["joints"][0]["speed"].get<double>(),
+            static_cast<double>(static_cast<float>(state["speed"].get<double>())));
+  EXPECT_GT(frame["joints"][0]["speed"].get<double>(), 1.0) << "the motor turns it";
+  EXPECT_FALSE(frame["bodies"][0].contains("linear_velocity")) << "pose only";
+
+  const CommandResult text = server_.cli({"subscribe", "--fields", "all,joints", "--count", "1"});
+  ASSERT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_NE(text.out.find("  joint #0  position "), std::string::npos) << text.out;
+  const CommandResult plain = server_.cli({"subscribe", "--count", "1"});
+  EXPECT_EQ(plain.out.find("joint #"), std::string::npos) << plain.out;
+}
+
 TEST_F(JointsCliTest, BadJointsAreRefusedAndNothingChanges) {
   expect_failure({"joint", "add", "j", "--ball", "crate", "ghost", "--anchor", "0", "0", "0"},
                  "no body 'ghost' in the world");

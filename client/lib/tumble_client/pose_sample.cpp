@@ -1,5 +1,6 @@
 #include "tumble_client/pose_sample.h"
 
+#include <optional>
 #include <string>
 
 namespace tumble::client {
@@ -26,9 +27,26 @@ std::array<float, N> to_float(const std::array<double, N>& values) {
   return out;
 }
 
+// The frame's joints into sample.joints; a failure unless each of its joint
+// arrays has a value for every joint id.
+std::optional<Failure> read_joints(const tumble::v1::PoseFrame& frame, PoseSample* sample) {
+  const int count = frame.joint_ids_size();
+  if (frame.joint_positions_size() != count || frame.joint_speeds_size() != count ||
+      frame.joint_motor_impulses_size() != count) {
+    return Failure{FailureKind::protocol, "the server sent a PoseFrame with " + std::to_string(count) +
+                                              " joint ids but joint arrays of other lengths"};
+  }
+  sample->joints.reserve(static_cast<std::size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    sample->joints.push_back(
+        {frame.joint_ids(i), frame.joint_positions(i), frame.joint_speeds(i), frame.joint_motor_impulses(i)});
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
-PoseSample sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPoses& poses) {
+Result<PoseSample> sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPoses& poses) {
   PoseSample sample;
   sample.subscription_id = frame.subscription_id();
   sample.tick = frame.tick();
@@ -46,6 +64,7 @@ PoseSample sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPo
     }
     sample.bodies.push_back(pose);
   }
+  if (auto failure = read_joints(frame, &sample)) return *failure;
   return sample;
 }
 
@@ -100,6 +119,7 @@ Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame) {
     }
     sample.bodies.push_back(pose);
   }
+  if (auto failure = read_joints(frame, &sample)) return *failure;
   return sample;
 }
 

@@ -23,6 +23,15 @@ struct BodyPose {
   std::array<float, 3> angular_velocity{};  // rad/s
 };
 
+// One joint's state as a frame of a subscription with joints carries it
+// (PoseFrame.joint_ids ...), in float32.
+struct JointSample {
+  std::uint32_t id = 0;
+  float position = 0;       // rad (hinge, ball) or m (slider, distance)
+  float speed = 0;          // rad/s or m/s
+  float motor_impulse = 0;  // N m s or N s, over the last step
+};
+
 // The subscribed bodies after the step of `tick`, in the frame's order.
 struct PoseSample {
   std::uint32_t subscription_id = 0;
@@ -30,6 +39,7 @@ struct PoseSample {
   double sim_time = 0;         // s
   bool has_velocities = true;  // false for a subscription to POSE_FIELDS_POSE
   std::vector<BodyPose> bodies;
+  std::vector<JointSample> joints;  // every joint, by id, when the subscription asked for them
 };
 
 // Unpacks a FULL or QUANTIZED `frame`. Fails with kind protocol when an
@@ -39,7 +49,9 @@ struct PoseSample {
 // can complete.
 Result<PoseSample> unpack_pose_frame(const tumble::v1::PoseFrame& frame);
 
-// The sample of a decoded QUANTIZED or DELTA `packed` field, bodies in its order.
-PoseSample sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPoses& poses);
+// The sample of a decoded QUANTIZED or DELTA `packed` field, bodies in its
+// order, and the frame's joints. Fails with kind protocol when the joint
+// arrays are not all as long as joint_ids.
+Result<PoseSample> sample_of(const tumble::v1::PoseFrame& frame, const wire::QuantizedPoses& poses);
 
 }  // namespace tumble::client
