@@ -233,19 +233,20 @@ class Client:
 
     def step(self, n: int = 1, forces: Optional[Mapping[BodyLike, Vector]] = None,
              torques: Optional[Mapping[BodyLike, Vector]] = None, bodies: Optional[Iterable[BodyLike]] = None,
-             fields: str = "all") -> Frame:
+             fields: str = "all", joints: bool = False) -> Frame:
         """Steps a paused world `n` ticks and returns the state after the last: one round trip.
 
         `forces` and `torques` map bodies to vectors (N, N m, world frame)
         that act on each of these `n` ticks and no other. The frame holds
         `bodies` (default: every body), with velocities unless
-        fields="pose". The world must be paused (else ServerError
+        fields="pose", and with joints=True every joint's state too
+        (Frame.joint_ids ...). The world must be paused (else ServerError
         FAILED_PRECONDITION); a Step another client cuts short with a
         Pause, Resume or Reset raises StepCutShort, which holds the frame
         of the tick it reached.
         """
         try:
-            frame: Frame = self._call(self._core.step(n, forces, torques, bodies, fields))
+            frame: Frame = self._call(self._core.step(n, forces, torques, bodies, fields, joints))
         except StepCutShort as cut:
             if isinstance(cut.frame, Frame):
                 self._fill_names(cut.frame, -1)
@@ -255,7 +256,8 @@ class Client:
     # Streams.
 
     def subscribe(self, bodies: Optional[Iterable[BodyLike]] = None, rate: float = 30.0, encoding: str = "full",
-                  fields: str = "all", events: Union[bool, Iterable[str]] = False) -> "Subscription":
+                  fields: str = "all", events: Union[bool, Iterable[str]] = False,
+                  joints: bool = False) -> "Subscription":
         """Starts a stream of Frames of `bodies` (default: every body) at `rate` Hz (0: every tick).
 
         `encoding` "full", "quantized" or "delta" (the same arrays, smaller
@@ -263,9 +265,12 @@ class Client:
         degrees, velocities within 1/256 m/s and 1/512 rad/s); `fields`
         "all" or "pose" (no velocities); `events` True for every kind of
         Event, or the kinds wanted ("spawned", "removed", "asleep",
-        "awake", "reset", "diverged"). The first frame is the current state.
+        "awake", "reset", "diverged"); `joints` True for every joint's
+        state of the world in each frame (Frame.joint_ids ..., float32 on
+        the wire in every encoding, whatever `bodies`). The first frame is
+        the current state.
         """
-        kind, message = Core.subscribe(bodies, rate, encoding, fields, events)
+        kind, message = Core.subscribe(bodies, rate, encoding, fields, events, joints)
         request_id, data = self._core.frame(kind, message)
         self._send(data)
         return Subscription(self, self._core.subscribed(self._wait(request_id)))

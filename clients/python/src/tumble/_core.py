@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from tumble._errors import ConnectionLost, ServerError, StepCutShort
-from tumble._poses import DeltaBaseline, Frame, decode_full
+from tumble._poses import DeltaBaseline, Frame, JointArrays, PackedError, decode_full, decode_joints, decode_packed
 from tumble.v1 import protocol_pb2 as pb
 from tumble.v1 import scene_pb2
 from tumble.v1 import types_pb2
@@ -242,10 +242,11 @@ def _body(info: pb.BodyInfo) -> Body:
 class Subscription:
     """The client's side of one subscription: its decoded frames and events, oldest first."""
 
-    def __init__(self, subscription_id: int, encoding: int, rate_hz: float) -> None:
+    def __init__(self, subscription_id: int, encoding: int, rate_hz: float, joints: bool) -> None:
         self.id = subscription_id
         self.encoding = encoding
         self.rate_hz = rate_hz
+        self.joints = joints  # its frames carry every joint's state
         self.items: Deque[Union[Frame, Event]] = collections.deque(maxlen=SUBSCRIPTION_QUEUE)
         self.baseline = DeltaBaseline() if encoding == pb.POSE_ENCODING_DELTA else None
         self.key_frame_wanted = False
@@ -270,6 +271,7 @@ class Core:
         self._buffer = bytearray()
         self._replies: Dict[int, pb.ServerMessage] = {}
         self._ignored: Set[int] = set()  # requests whose replies nobody waits for (KeyFrameRequest)
+        self._subscribe_joints: Dict[int, bool] = {}  # unanswered Subscribe requests: whether each asked for joints
         self.subscriptions: Dict[int, Subscription] = {}
         self.names: Dict[int, str] = {}  # every id ever seen with its name: ids are never reused
         self.fatal: Optional[BaseException] = None
@@ -286,6 +288,8 @@ class Core:
         getattr(envelope, kind).CopyFrom(message)
         if kind == "hello":
             self._hello_id = request_id
+        elif kind == "subscribe":
+            self._subscribe_joints[request_id] = message.joints
         body = envelope.SerializeToString()
         return request_id, _varint_bytes(len(body)) + body
 
@@ -339,9 +343,10 @@ class Core:
         if request_id in self._ignored:
             self._ignored.discard(request_id)
             return
+        asked_joints = self._subscribe_joints.pop(request_id, False)  # a Subscribe is answered, or an Error
         if kind == "subscribed":
             # Filed now: the subscription's first frame may follow in the same read.
-            self._open_subscription(reply)
+            self._open_subscription(reply, asked_joints)
         if kind == "error" and request_id == 0:
             # An Error that answers nothing comes before the server closes the connection.
             self.fatal = ServerError(pb.ErrorCode.Name(reply.code), reply.message, 0)
@@ -358,24 +363,26 @@ class Core:
         sub = self.subscriptions.get(frame.subscription_id)
         if sub is None or sub.closed:
             return
-        if sub.baseline is not None:
-            arrays = sub.baseline.apply(frame)
-            if arrays is None:
-                if not sub.key_frame_asked:
-                    sub.key_frame_wanted = True
-                return
-            sub.key_frame_asked = False
-            arrays = tuple(None if a is None else a.copy() for a in arrays)  # type: ignore[assignment]
-        elif frame.encoding == pb.POSE_ENCODING_FULL:
-            arrays = decode_full(frame)
-        else:
-            from tumble._poses import PackedError, decode_packed
-            try:
+        try:
+            if sub.baseline is not None:
+                arrays = sub.baseline.apply(frame)
+                if arrays is None:
+                    if not sub.key_frame_asked:
+                        sub.key_frame_wanted = True
+                    return
+                sub.key_frame_asked = False
+                arrays = tuple(None if a is None else a.copy() for a in arrays)  # type: ignore[assignment]
+            elif frame.encoding == pb.POSE_ENCODING_FULL:
+                arrays = decode_full(frame)
+            else:
                 arrays = decode_packed(frame.packed)
-            except PackedError:
-                return  # a QUANTIZED frame stands alone: the next one will do
+            joints: Optional[JointArrays] = decode_joints(frame) if sub.joints else None
+        except PackedError:
+            # Dropped: a FULL or QUANTIZED frame stands alone, and a DELTA
+            # baseline has already taken this frame's bodies.
+            return
         sub.items.append(Frame(frame.tick, frame.sim_time, *arrays, names=self.names,  # type: ignore[misc]
-                               subscription_id=frame.subscription_id))
+                               subscription_id=frame.subscription_id, joints=joints))
 
     def _take_event(self, event: pb.WorldEvent) -> None:
         if event.kind == pb.WORLD_EVENT_BODY_SPAWNED:
@@ -546,12 +553,12 @@ class Core:
         return "get_stats", pb.GetStats(), lambda reply: message_dict(reply.stats)
 
     def step(self, n: int, forces: Optional[Mapping[BodyLike, Vector]], torques: Optional[Mapping[BodyLike, Vector]],
-             bodies: Optional[Iterable[BodyLike]], fields: str) -> Request:
+             bodies: Optional[Iterable[BodyLike]], fields: str, joints: bool) -> Request:
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 1 <= n <= MAX_STEP_TICKS:
             raise ValueError(f"n must be a whole number of ticks from 1 to {MAX_STEP_TICKS}, got {n!r}")
         if fields not in _FIELDS:
             raise ValueError(f"fields must be 'all' or 'pose', got {fields!r}")
-        m = pb.Step(ticks=int(n), reply_frame=True, frame_fields=_FIELDS[fields])
+        m = pb.Step(ticks=int(n), reply_frame=True, frame_fields=_FIELDS[fields], frame_joints=bool(joints))
         for what, loads, target in (("forces", forces, m.forces), ("torques", torques, m.torques)):
             if loads is None:
                 continue
@@ -572,7 +579,8 @@ class Core:
 
         def frame(reply: pb.ServerMessage) -> Frame:
             ack = reply.ack
-            result = Frame(ack.frame.tick, ack.frame.sim_time, *decode_full(ack.frame), names=self.names)
+            result = Frame(ack.frame.tick, ack.frame.sim_time, *decode_full(ack.frame), names=self.names,
+                           joints=decode_joints(ack.frame) if joints else None)
             if ack.step_ticks_left:
                 raise StepCutShort(result, ack.step_ticks_left, _STEP_ENDS.get(ack.step_ended_by, "request"))
             return result
@@ -581,7 +589,7 @@ class Core:
 
     @staticmethod
     def subscribe(bodies: Optional[Iterable[BodyLike]], rate: float, encoding: str, fields: str,
-                  events: Union[bool, Iterable[str]]) -> Tuple[str, Any]:
+                  events: Union[bool, Iterable[str]], joints: bool) -> Tuple[str, Any]:
         rate_hz = _number(rate, "rate")
         if rate_hz < 0:
             raise ValueError(f"rate must be >= 0 Hz (0: every tick), got {rate_hz}")
@@ -589,7 +597,7 @@ class Core:
             raise ValueError(f"encoding must be 'full', 'quantized' or 'delta', got {encoding!r}")
         if fields not in _FIELDS:
             raise ValueError(f"fields must be 'all' or 'pose', got {fields!r}")
-        m = pb.Subscribe(rate_hz=rate_hz, encoding=_ENCODINGS[encoding], fields=_FIELDS[fields])
+        m = pb.Subscribe(rate_hz=rate_hz, encoding=_ENCODINGS[encoding], fields=_FIELDS[fields], joints=bool(joints))
         if bodies is not None:
             if isinstance(bodies, (str, int)):
                 bodies = [bodies]
@@ -608,8 +616,8 @@ class Core:
                 m.events.append(EVENT_KINDS[kind])
         return "subscribe", m
 
-    def _open_subscription(self, s: pb.Subscribed) -> None:
-        self.subscriptions[s.subscription_id] = Subscription(s.subscription_id, s.encoding, s.rate_hz)
+    def _open_subscription(self, s: pb.Subscribed, joints: bool) -> None:
+        self.subscriptions[s.subscription_id] = Subscription(s.subscription_id, s.encoding, s.rate_hz, joints)
 
     def subscribed(self, reply: pb.ServerMessage) -> Subscription:
         """The subscription a Subscribed reply opened (filed when the reply came)."""

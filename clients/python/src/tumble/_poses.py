@@ -1,6 +1,7 @@
 """Pose frames: the Frame a client hands out, and the decoding of the three
 encodings (FULL float32 arrays, QUANTIZED and DELTA ``packed`` bytes) into
-the same numpy arrays, vectorised over the bodies.
+the same numpy arrays, vectorised over the bodies; and of the joints' states
+a frame carries when asked, float32 arrays in every encoding.
 
 The layout of ``packed`` is docs/protocol.md's "Pose encodings"
 (proto/wire/quantized_poses.h): varints n, flags and k; n zigzag varints of
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Dict, Iterator, List, Optional, Tuple, Union
+from typing import Dict, Iterator, List, Optional, Tuple, TypeVar, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -23,6 +24,8 @@ from tumble.v1 import protocol_pb2 as pb
 
 FloatArray = npt.NDArray[np.float64]
 IdArray = npt.NDArray[np.uint32]
+JointArrays = Tuple[IdArray, FloatArray, FloatArray, FloatArray]
+"""The joints' ids, positions, speeds and motor impulses, one row each, as a Frame holds them."""
 
 # proto/wire/quantized_poses.h and smallest_three.h.
 _LINEAR_VELOCITY_STEP = 1.0 / 128
@@ -57,17 +60,32 @@ class Frame:
     ``orientations`` (N, 4) as w, x, y, z, ``linear_velocities`` and
     ``angular_velocities`` (N, 3) in m/s and rad/s, or None when the
     subscription or Step asked for poses only. ``frame["crate"]`` or
-    ``frame[3]`` gives one body (a BodyState); ``len(frame)`` is N. The arrays
-    are the frame's own: change them freely.
+    ``frame[3]`` gives one body (a BodyState); ``len(frame)`` is N.
+
+    With joints asked for, every joint of the world at that tick, in
+    ascending id order: ``joint_ids`` uint32 (J,), and float64 (J,)
+    ``joint_positions`` (hinge angle in rad, slider position or distance
+    joint length in m, ball joint's angle from its axis in rad),
+    ``joint_speeds`` (their rates, rad/s or m/s) and
+    ``joint_motor_impulses`` (the motor's impulse over the last step, N m s
+    or N s); all four None when the subscription or Step did not ask for
+    joints. The values were float32 on the wire, whatever the encoding.
+
+    The arrays are the frame's own: change them freely.
     """
 
     __slots__ = ("tick", "time", "ids", "positions", "orientations", "linear_velocities", "angular_velocities",
-                 "subscription_id", "_names", "_index")
+                 "joint_ids", "joint_positions", "joint_speeds", "joint_motor_impulses", "subscription_id", "_names",
+                 "_index")
 
     def __init__(self, tick: int, time: float, ids: IdArray, positions: FloatArray, orientations: FloatArray,
                  linear_velocities: Optional[FloatArray], angular_velocities: Optional[FloatArray],
-                 names: Dict[int, str], subscription_id: int = 0) -> None:
-        """Makes a frame of arrays already in ascending id order; `names` maps ids to names (shared, read only)."""
+                 names: Dict[int, str], subscription_id: int = 0, joints: Optional[JointArrays] = None) -> None:
+        """Makes a frame of arrays already in ascending id order; `names` maps ids to names (shared, read only).
+
+        `joints`: the joints' (ids, positions, speeds, motor impulses) in
+        ascending id order, or None when they were not asked for.
+        """
         self.tick = tick
         """The tick whose state this is."""
         self.time = time
@@ -77,6 +95,10 @@ class Frame:
         self.orientations = orientations
         self.linear_velocities = linear_velocities
         self.angular_velocities = angular_velocities
+        self.joint_ids: Optional[IdArray] = None if joints is None else joints[0]
+        self.joint_positions: Optional[FloatArray] = None if joints is None else joints[1]
+        self.joint_speeds: Optional[FloatArray] = None if joints is None else joints[2]
+        self.joint_motor_impulses: Optional[FloatArray] = None if joints is None else joints[3]
         self.subscription_id = subscription_id
         """The subscription it came from; 0 for a Step's frame."""
         self._names = names
@@ -130,9 +152,10 @@ class Frame:
 
 
 Arrays = Tuple[IdArray, FloatArray, FloatArray, Optional[FloatArray], Optional[FloatArray]]
+_ById = TypeVar("_ById", Arrays, JointArrays)
 
 
-def _sorted_by_id(arrays: Arrays) -> Arrays:
+def _sorted_by_id(arrays: _ById) -> _ById:
     ids = arrays[0]
     if ids.shape[0] < 2 or bool(np.all(ids[1:] > ids[:-1])):
         return arrays
@@ -202,7 +225,23 @@ def decode_full(frame: pb.PoseFrame) -> Arrays:
 
 
 class PackedError(ValueError):
-    """The ``packed`` bytes of a frame do not follow the layout."""
+    """A frame does not follow the layout: its ``packed`` bytes, its FULL arrays or its joints."""
+
+
+def decode_joints(frame: pb.PoseFrame) -> JointArrays:
+    """The joints' (ids, positions, speeds, motor impulses) a frame carries, in ascending id order.
+
+    The same four float32 fields in every encoding, a DELTA frame's whole.
+    Raises PackedError when the four do not hold one value per joint.
+    """
+    ids = np.array(frame.joint_ids, dtype=np.uint32)
+    positions = np.array(frame.joint_positions, dtype=np.float64)
+    speeds = np.array(frame.joint_speeds, dtype=np.float64)
+    motor_impulses = np.array(frame.joint_motor_impulses, dtype=np.float64)
+    if not ids.shape[0] == positions.shape[0] == speeds.shape[0] == motor_impulses.shape[0]:
+        raise PackedError(f"a frame's joints hold {ids.shape[0]} ids, {positions.shape[0]} positions, "
+                          f"{speeds.shape[0]} speeds and {motor_impulses.shape[0]} motor impulses")
+    return _sorted_by_id((ids, positions, speeds, motor_impulses))
 
 
 def _varint(data: bytes, pos: int) -> Tuple[int, int]:
@@ -362,5 +401,5 @@ class DeltaBaseline:
             keep &= ~np.isin(base_ids, removed)
         merged = tuple(None if b is None else np.concatenate([b[keep], c])  # type: ignore[index]
                        for b, c in zip(base, change))
-        self.arrays = _sorted_by_id(merged)  # type: ignore[arg-type]
+        self.arrays = _sorted_by_id(merged)  # type: ignore[type-var, assignment]
         return self.arrays

@@ -232,10 +232,10 @@ class Client:
 
     async def step(self, n: int = 1, forces: Optional[Mapping[BodyLike, Vector]] = None,
                    torques: Optional[Mapping[BodyLike, Vector]] = None, bodies: Optional[Iterable[BodyLike]] = None,
-                   fields: str = "all") -> Frame:
+                   fields: str = "all", joints: bool = False) -> Frame:
         """Steps a paused world and returns the state after the last tick; see tumble.Client.step."""
         try:
-            frame: Frame = await self._call(self._core.step(n, forces, torques, bodies, fields))
+            frame: Frame = await self._call(self._core.step(n, forces, torques, bodies, fields, joints))
         except StepCutShort as cut:
             if isinstance(cut.frame, Frame):
                 await self._fill_names(cut.frame, -1)
@@ -243,10 +243,10 @@ class Client:
         return await self._fill_names(frame, -1)
 
     async def subscribe(self, bodies: Optional[Iterable[BodyLike]] = None, rate: float = 30.0,
-                        encoding: str = "full", fields: str = "all",
-                        events: Union[bool, Iterable[str]] = False) -> "Subscription":
+                        encoding: str = "full", fields: str = "all", events: Union[bool, Iterable[str]] = False,
+                        joints: bool = False) -> "Subscription":
         """Starts a stream of Frames (and Events); see tumble.Client.subscribe. Iterate with ``async for``."""
-        kind, message = Core.subscribe(bodies, rate, encoding, fields, events)
+        kind, message = Core.subscribe(bodies, rate, encoding, fields, events, joints)
         request_id, data = self._core.frame(kind, message)
         await self._send(data)
         return Subscription(self, self._core.subscribed(await self._wait(request_id)))
