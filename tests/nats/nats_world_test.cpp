@@ -42,6 +42,15 @@ class NatsWorld : public ::testing::Test {
     return tumbled;
   }
 
+  // The one world that answers tumble.v1.worlds.
+  static tumble::v1::WorldInfo only_world(NatsTestClient& client) {
+    const std::vector<std::string> replies = client.request_many("tumble.v1.worlds", "");
+    EXPECT_EQ(replies.size(), 1u);
+    tumble::v1::WorldInfo info;
+    EXPECT_TRUE(!replies.empty() && info.ParseFromString(replies[0]));
+    return info;
+  }
+
   // The Stats reply over .rpc once the link is up.
   bool wait_connected(NatsTestClient& client) {
     return poll_until([&] {
@@ -57,10 +66,7 @@ TEST_F(NatsWorld, TheWorldsRequestIsAnsweredWithItsStreamsAndSubjects) {
   auto tumbled = start_tumbled({"--nats-stream", "f30=full@30:all", "--nats-stream", "d60=delta@60"});
   NatsTestClient client(nats_.url());
   ASSERT_TRUE(wait_connected(client));
-  const std::vector<std::string> replies = client.request_many("tumble.v1.worlds", "");
-  ASSERT_EQ(replies.size(), 1u);
-  tumble::v1::WorldInfo info;
-  ASSERT_TRUE(info.ParseFromString(replies[0]));
+  const tumble::v1::WorldInfo info = only_world(client);
   EXPECT_EQ(info.world(), "lab");
   EXPECT_EQ(info.bodies(), 2u);
   EXPECT_GT(info.tick_rate_hz(), 0);
@@ -259,10 +265,7 @@ TEST_F(NatsWorld, AStreamWithJointsCarriesTheirStateInEveryFrameAndInItsKeyAnswe
   ASSERT_TRUE(tumbled.started()) << tumbled.log();
   NatsTestClient client(nats_.url());
   ASSERT_TRUE(wait_connected(client));
-  const std::vector<std::string> replies = client.request_many("tumble.v1.worlds", "");
-  ASSERT_EQ(replies.size(), 1u);
-  tumble::v1::WorldInfo info;
-  ASSERT_TRUE(info.ParseFromString(replies[0]));
+  const tumble::v1::WorldInfo info = only_world(client);
   ASSERT_EQ(info.streams_size(), 2);
   EXPECT_TRUE(info.streams(0).joints());
   EXPECT_FALSE(info.streams(1).joints());

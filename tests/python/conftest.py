@@ -105,3 +105,14 @@ def make_server() -> Iterator:
     yield make
     for process in started:
         process.stop()
+
+
+def frames_until(subscription, tick):
+    """The frames of a stream by tick, up to the frame of `tick` (a slow reader may miss some before it)."""
+    import tumble  # the package under test, on the path the fixtures set up
+    out = {}
+    while tick not in out:
+        item = subscription.next(timeout=30)
+        if isinstance(item, tumble.Frame):
+            out[item.tick] = item
+    return out

@@ -16,7 +16,7 @@ import pytest
 
 import tumble
 import tumble.aio
-from conftest import SOURCE
+from conftest import SOURCE, frames_until
 from tumble._core import Core
 from tumble._poses import PackedError, decode_joints
 from tumble.v1 import protocol_pb2 as pb
@@ -48,16 +48,6 @@ def listed_joints(client: tumble.Client) -> pb.JointList:
     listing = client._call(("list_joints", pb.ListJoints(), lambda reply: reply.joint_list))
     assert listing.next_start_id == 0, "the scene's joints fit in one page"
     return listing
-
-
-def frames_until(subscription, tick):
-    """The frames of a stream by tick, up to the frame of `tick` (a slow reader may miss some before it)."""
-    out = {}
-    while tick not in out:
-        item = subscription.next(timeout=30)
-        if isinstance(item, tumble.Frame):
-            out[item.tick] = item
-    return out
 
 
 def joint_values(frame: tumble.Frame) -> np.ndarray:

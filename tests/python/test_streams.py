@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import tumble
+from conftest import frames_until
 from tumble.v1 import protocol_pb2 as pb
 
 # The quantization's bounds (docs/protocol.md, "Pose encodings"), with a
@@ -37,16 +38,6 @@ def frames_of(subscription, count):
         item = subscription.next(timeout=30)
         if isinstance(item, tumble.Frame):
             out.append(item)
-    return out
-
-
-def frames_until(subscription, tick):
-    """The frames of a stream by tick, up to the frame of `tick` (a slow reader may miss some before it)."""
-    out = {}
-    while tick not in out:
-        item = subscription.next(timeout=30)
-        if isinstance(item, tumble.Frame):
-            out[item.tick] = item
     return out
 
 
