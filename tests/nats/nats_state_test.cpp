@@ -194,8 +194,14 @@ TEST_F(NatsState, ADamagedValueIsRefusedNamingTheBucketAndKeyUnlessResetStartsFr
   auto reset = start_tumbled({"--nats-state-reset", "--checkpoint-interval", "0.1"});
   ASSERT_TRUE(reset->started()) << reset->log();
   EXPECT_NE(reset->log().find("--nats-state-reset: starting from the scene"), std::string::npos) << reset->log();
-  // The scene's two bodies, and the bad value replaced by a checkpoint.
-  const ServerMessage list = parse(*client.request("tumble.v1.lab.rpc", list_bodies_request(1)));
+  // The scene's two bodies, once its link answers (started() means the
+  // TCP port listens, not that NATS has the world's subscription yet), and
+  // the bad value replaced by a checkpoint.
+  std::optional<std::string> listed;
+  ASSERT_TRUE(poll_until([&] {
+    return (listed = client.request("tumble.v1.lab.rpc", list_bodies_request(1))).has_value();
+  })) << client.error();
+  const ServerMessage list = parse(*listed);
   EXPECT_EQ(list.body_list().bodies_size(), 2) << list.DebugString();
   EXPECT_TRUE(poll_until([&] {
     const auto value = client.kv_get(kBucket, "lab");
