@@ -196,18 +196,6 @@ void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j
   apply(row, j, lambda, v);
 }
 
-// Friction along j: drives the joint's speed along it to zero with an
-// impulse within friction h a substep (Coulomb's law on the joint's free
-// direction, as a motor of target speed 0 whose force is the friction).
-void solve_friction(const JointRow& row, double friction, const Jacobian& j, const JointStepSettings& settings,
-                    double& accumulated, Velocities& v) {
-  const double max_impulse = friction * settings.h;
-  const double next = std::clamp(accumulated - effective_mass(row, j) * velocity(j, v), -max_impulse, max_impulse);
-  const double lambda = next - accumulated;
-  accumulated = next;
-  apply(row, j, lambda, v);
-}
-
 // A ball joint's friction: the relative angular velocity w_b - w_a driven
 // to zero as one block, the impulse within friction h in magnitude (the
 // torque resists turning about any axis alike).
@@ -320,7 +308,12 @@ bool cone_axis(const Geometry& g, double* angle, Vec3* axis) {
 void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double position, bool angular,
                  const JointStepSettings& settings, bool soft, Velocities& v) {
   JointImpulses& impulses = row.impulses;
-  if (desc.friction > 0) solve_friction(row, desc.friction, j, settings, impulses.friction.x(), v);
+  if (desc.friction > 0) {
+    // Coulomb friction on the free direction: a motor of target speed 0
+    // whose force is the friction, with its own accumulated impulse.
+    const JointMotor still{JointMotor::Mode::speed, 0, desc.friction};
+    solve_motor(row, still, j, position, angular, settings, impulses.friction.x(), v);
+  }
   if (desc.motor.mode != JointMotor::Mode::off) {
     solve_motor(row, desc.motor, j, position, angular, settings, impulses.motor, v);
   }

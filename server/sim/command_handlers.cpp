@@ -623,15 +623,13 @@ void Simulation::fill_step_frame(tumble::v1::PoseFields fields, bool joints, tum
     }
   }
   if (!joints) return;
-  std::vector<physics::JointId> by_id(world_.joint_count());
-  for (std::size_t i = 0; i < by_id.size(); ++i) by_id[i] = world_.joint_id_at(i);
-  std::sort(by_id.begin(), by_id.end());
-  for (const physics::JointId id : by_id) {
-    const physics::JointState state = world_.joint_state(id);
-    frame->add_joint_ids(id);
-    frame->add_joint_positions(static_cast<float>(state.position));
-    frame->add_joint_speeds(static_cast<float>(state.speed));
-    frame->add_joint_motor_impulses(static_cast<float>(state.motor_impulse));
+  Snapshot states;
+  copy_joints(world_, states);
+  for (std::size_t i = 0; i < states.joint_ids.size(); ++i) {
+    frame->add_joint_ids(states.joint_ids[i]);
+    frame->add_joint_positions(static_cast<float>(states.joint_positions[i]));
+    frame->add_joint_speeds(static_cast<float>(states.joint_speeds[i]));
+    frame->add_joint_motor_impulses(static_cast<float>(states.joint_motor_impulses[i]));
   }
 }
 

@@ -280,8 +280,10 @@ void Simulation::pass(Clock::duration step_budget) {
     if (edited_ && sleep_.watching()) sleep_.scan(world_, directory_, next_tick_, &events_);
     flush_events();
     const bool requested = snapshot_requested_.exchange(false, std::memory_order_relaxed);
-    take_interest();  // no plan here: whether the joints are wanted
-    if (edited_ || requested) publish(nullptr, edited_);
+    if (edited_ || requested) {
+      take_interest();  // no plan here: whether the joints are wanted
+      publish(nullptr, edited_);
+    }
     edited_ = false;
   }
   timing_.record_clock(Clock::now(), time_of(next_tick_));
@@ -358,7 +360,7 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   auto snapshot = std::make_shared<Snapshot>();
   // Every snapshot carries the joints while a stream wants them (they are
   // few beside the bodies): a stream of joints is then served from any.
-  if (joints_wanted_) copy_joints(*snapshot);
+  if (joints_wanted_) copy_joints(world_, *snapshot);
   snapshot->tick = next_tick_;
   snapshot->sim_time = time_of(next_tick_);
   snapshot->out_of_band = out_of_band;
@@ -403,18 +405,17 @@ void Simulation::publish(const std::vector<physics::BodyId>* bodies, bool out_of
   hand_over(std::move(snapshot));
 }
 
-void Simulation::copy_joints(Snapshot& snapshot) {
+void Simulation::copy_joints(const physics::World& world, Snapshot& snapshot) {
   snapshot.has_joints = true;
-  const std::size_t n = world_.joint_count();
-  joint_order_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) joint_order_[i] = world_.joint_id_at(i);
-  std::sort(joint_order_.begin(), joint_order_.end());
-  snapshot.joint_ids = joint_order_;
+  const std::size_t n = world.joint_count();
+  snapshot.joint_ids.resize(n);
+  for (std::size_t i = 0; i < n; ++i) snapshot.joint_ids[i] = world.joint_id_at(i);
+  std::sort(snapshot.joint_ids.begin(), snapshot.joint_ids.end());
   snapshot.joint_positions.resize(n);
   snapshot.joint_speeds.resize(n);
   snapshot.joint_motor_impulses.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const physics::JointState state = world_.joint_state(joint_order_[i]);
+    const physics::JointState state = world.joint_state(snapshot.joint_ids[i]);
     snapshot.joint_positions[i] = state.position;
     snapshot.joint_speeds[i] = state.speed;
     snapshot.joint_motor_impulses[i] = state.motor_impulse;

@@ -222,8 +222,9 @@ class Simulation {
   // stream wants it; more_follows: a larger snapshot of this tick comes
   // next.
   void publish(const std::vector<physics::BodyId>* bodies, bool out_of_band, bool more_follows = false);
-  // Copies every joint's state into the snapshot, in ascending id order.
-  void copy_joints(Snapshot& snapshot);
+  // Copies every joint's state of `world` into the snapshot, in ascending
+  // id order (for a published snapshot and a Step's frame alike).
+  static void copy_joints(const physics::World& world, Snapshot& snapshot);
   // Gives a snapshot to every listener.
   void hand_over(std::shared_ptr<const Snapshot> snapshot);
   // Takes up the latest interest and a requested snapshot, and plans the
@@ -311,7 +312,6 @@ class Simulation {
   std::vector<physics::BodyId> step_frame_bodies_;  // Step.frame_bodies, resolved; empty: every body
   bool edited_ = false;                             // the world was edited since the last snapshot
   bool joints_wanted_ = false;                      // a stream wants the joints' states (PublishInterest::joints)
-  std::vector<physics::JointId> joint_order_;       // scratch: the joints by id, for a snapshot
   std::uint64_t bodies_diverged_ = 0;               // removed by remove_diverged() since the start
   SleepWatch sleep_;                                // watching while sleep_events_wanted_
   WorldEvents events_;                              // of the tick being made
