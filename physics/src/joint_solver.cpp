@@ -304,7 +304,7 @@ bool cone_axis(const Geometry& g, double* angle, Vec3* axis) {
 }
 
 // The rows along the joint's free direction (hinge: about a_A; slider:
-// along it): motor, then the limits.
+// along it): friction, motor, then the limits.
 void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double position, bool angular,
                  const JointStepSettings& settings, bool soft, Velocities& v) {
   JointImpulses& impulses = row.impulses;
