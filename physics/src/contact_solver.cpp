@@ -17,17 +17,8 @@ namespace {
 // substeps); at 3/16 they stay within centimetres.
 constexpr double kMaxJointHertzPerSubstepRate = 0.1875;
 
-// No body: an unset entry of the slot scratch.
-constexpr std::uint32_t kNone = 0xffffffff;
-
-Vec3 to_vec3(const float (&x)[4]) { return Vec3(x[0], x[1], x[2]); }
-
-void store(float (&to)[4], const Vec3& x) {
-  to[0] = static_cast<float>(x.x());
-  to[1] = static_cast<float>(x.y());
-  to[2] = static_cast<float>(x.z());
-  to[3] = 0.0f;
-}
+// No slot yet: an unset entry of slot_of_body_.
+constexpr std::uint32_t kNoSlot = 0xffffffff;
 
 }  // namespace
 
@@ -38,7 +29,7 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   const std::size_t body_count = bodies.inverse_mass.size();
   if (motion_.size() < body_count) {
     motion_.resize(body_count);
-    slot_of_body_.resize(body_count, kNone);
+    slot_of_body_.resize(body_count, kNoSlot);
     slot_stamp_.resize(body_count, 0);
   }
   contacts_ = contacts;
@@ -258,17 +249,17 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     SolverBody& slot = slots[s];
     if (bodies_.inverse_mass[body] != 0) {
       const SolverVelocity& change = bodies_.external_change[body];
-      store(slot.linear, v.linear - change.linear);
-      store(slot.angular, v.angular - change.angular);
-      store(external[s].linear, change.linear);
-      store(external[s].angular, change.angular);
+      store_vec3(slot.linear, v.linear - change.linear);
+      store_vec3(slot.angular, v.angular - change.angular);
+      store_vec3(external[s].linear, change.linear);
+      store_vec3(external[s].angular, change.angular);
     } else {
-      store(slot.linear, v.linear);
-      store(slot.angular, v.angular);
+      store_vec3(slot.linear, v.linear);
+      store_vec3(slot.angular, v.angular);
       external[s] = SolverBody{};
     }
-    store(slot.displacement, Vec3::Zero());
-    store(slot.rotation, Vec3::Zero());
+    store_vec3(slot.displacement, Vec3::Zero());
+    store_vec3(slot.rotation, Vec3::Zero());
   }
 
   // The rows, lane by lane; a lane without a constraint, or without a
@@ -342,11 +333,11 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     SolverVelocity& v = velocities[body];
     const SolverVelocity& change = bodies_.external_change[body];
     float start_linear[4], start_angular[4];
-    store(start_linear, v.linear - change.linear);
-    store(start_angular, v.angular - change.angular);
-    v.linear = v.linear - change.linear + (to_vec3(slots[s].linear) - to_vec3(start_linear));
-    v.angular = v.angular - change.angular + (to_vec3(slots[s].angular) - to_vec3(start_angular));
-    motion_[body] = Motion{to_vec3(slots[s].displacement), to_vec3(slots[s].rotation)};
+    store_vec3(start_linear, v.linear - change.linear);
+    store_vec3(start_angular, v.angular - change.angular);
+    v.linear = v.linear - change.linear + (load_vec3(slots[s].linear) - load_vec3(start_linear));
+    v.angular = v.angular - change.angular + (load_vec3(slots[s].angular) - load_vec3(start_angular));
+    motion_[body] = Motion{load_vec3(slots[s].displacement), load_vec3(slots[s].rotation)};
   }
 }
 

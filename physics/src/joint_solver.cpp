@@ -13,14 +13,6 @@
 namespace tumble::physics {
 namespace {
 
-Vec3 to_vec3(const float (&x)[4]) { return Vec3(x[0], x[1], x[2]); }
-
-void store(float (&to)[4], const Vec3& x) {
-  to[0] = static_cast<float>(x.x());
-  to[1] = static_cast<float>(x.y());
-  to[2] = static_cast<float>(x.z());
-}
-
 // [r]x: the matrix of v -> r x v.
 Mat3 cross_matrix(const Vec3& r) {
   Mat3 m;
@@ -36,19 +28,19 @@ struct Velocities {
 Velocities load(const JointRow& row, const SolverBody* slots) {
   const SolverBody& a = slots[row.slot_a];
   const SolverBody& b = slots[row.slot_b];
-  return {to_vec3(a.linear), to_vec3(a.angular), to_vec3(b.linear), to_vec3(b.angular)};
+  return {load_vec3(a.linear), load_vec3(a.angular), load_vec3(b.linear), load_vec3(b.angular)};
 }
 
 // Writes the velocities back; slot 0, the group's slot of zeros, is never
 // written (a body of infinite mass takes no change anyway).
 void save(const JointRow& row, const Velocities& v, SolverBody* slots) {
   if (row.slot_a != 0) {
-    store(slots[row.slot_a].linear, v.linear_a);
-    store(slots[row.slot_a].angular, v.angular_a);
+    store_vec3(slots[row.slot_a].linear, v.linear_a);
+    store_vec3(slots[row.slot_a].angular, v.angular_a);
   }
   if (row.slot_b != 0) {
-    store(slots[row.slot_b].linear, v.linear_b);
-    store(slots[row.slot_b].angular, v.angular_b);
+    store_vec3(slots[row.slot_b].linear, v.linear_b);
+    store_vec3(slots[row.slot_b].angular, v.angular_b);
   }
 }
 
@@ -64,8 +56,8 @@ Geometry geometry_now(const JointRow& row, const SolverBody* slots) {
   const SolverBody& a = slots[row.slot_a];
   const SolverBody& b = slots[row.slot_b];
   // The slot of zeros (a static body or the world) has not turned.
-  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(to_vec3(a.rotation));
-  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(to_vec3(b.rotation));
+  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(a.rotation));
+  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(b.rotation));
   Geometry g;
   g.anchor_a = turn_a * row.anchor_a;
   g.anchor_b = turn_b * row.anchor_b;
@@ -73,7 +65,7 @@ Geometry geometry_now(const JointRow& row, const SolverBody* slots) {
     g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
     g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
   }
-  g.d = row.delta_center + (to_vec3(b.displacement) - to_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
+  g.d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
   return g;
 }
 

@@ -38,4 +38,15 @@ struct alignas(16) SolverBody {
   float rotation[4] = {};
 };
 
+// One vector of a SolverBody (or of a slot laid out like one) in double
+// precision, and back, its padding zeroed.
+inline Vec3 load_vec3(const float (&x)[4]) { return Vec3(x[0], x[1], x[2]); }
+
+inline void store_vec3(float (&to)[4], const Vec3& x) {
+  to[0] = static_cast<float>(x.x());
+  to[1] = static_cast<float>(x.y());
+  to[2] = static_cast<float>(x.z());
+  to[3] = 0.0f;
+}
+
 }  // namespace tumble::physics

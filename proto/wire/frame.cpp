@@ -2,16 +2,10 @@
 
 #include <cstring>
 
+#include "wire/bit_stream.h"
+
 namespace tumble::wire {
 namespace {
-
-void append_varint(std::uint64_t value, std::string& out) {
-  while (value >= 0x80) {
-    out.push_back(static_cast<char>((value & 0x7f) | 0x80));
-    value >>= 7;
-  }
-  out.push_back(static_cast<char>(value));
-}
 
 enum class VarintStatus { ok, need_more, bad };
 

@@ -4,16 +4,11 @@
 #include <string>
 #include <utility>
 
+#include "net/ascii_case.h"
+
 namespace tumble::net {
 
 namespace {
-
-char lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
-
-bool equal_ignoring_case(std::string_view a, std::string_view b) {
-  return a.size() == b.size() &&
-         std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) { return lower(x) == lower(y); });
-}
 
 // "name" of "name:port", "[::1]" of "[::1]:port"; the whole of a value without a port.
 std::string_view name_of(std::string_view host) {
@@ -29,7 +24,7 @@ bool is_ip_address(std::string_view name) {
   if (name.size() > 2 && name.front() == '[' && name.back() == ']') {
     const std::string_view inner = name.substr(1, name.size() - 2);
     return inner.find(':') != std::string_view::npos && std::all_of(inner.begin(), inner.end(), [](char c) {
-             return (c >= '0' && c <= '9') || (lower(c) >= 'a' && lower(c) <= 'f') || c == ':' || c == '.';
+             return (c >= '0' && c <= '9') || (ascii_lower(c) >= 'a' && ascii_lower(c) <= 'f') || c == ':' || c == '.';
            });
   }
   int parts = 0;
@@ -55,7 +50,7 @@ AllowedHosts::AllowedHosts(std::vector<std::string> entries) : entries_(std::mov
 
 AllowedHosts AllowedHosts::defaults(const std::string& listen_host) {
   std::vector<std::string> entries{"localhost"};
-  if (!listen_host.empty() && !is_ip_address(listen_host) && !equal_ignoring_case(listen_host, "localhost") &&
+  if (!listen_host.empty() && !is_ip_address(listen_host) && !equal_ignoring_ascii_case(listen_host, "localhost") &&
       listen_host.find(':') == std::string::npos) {
     entries.push_back(listen_host);
   }
@@ -68,7 +63,7 @@ bool AllowedHosts::allows(std::string_view host) const {
   if (any_ip_address_ && is_ip_address(name_of(host))) return true;
   return std::any_of(entries_.begin(), entries_.end(), [&](const std::string& entry) {
     if (entry == "*") return true;
-    return has_port(entry) ? equal_ignoring_case(entry, host) : equal_ignoring_case(entry, name_of(host));
+    return has_port(entry) ? equal_ignoring_ascii_case(entry, host) : equal_ignoring_ascii_case(entry, name_of(host));
   });
 }
 

@@ -9,6 +9,7 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include "net/ascii_case.h"
 #include "net/log.h"
 #include "net/static_assets.h"
 #include "net/tcp_transport.h"
@@ -29,16 +30,6 @@ constexpr std::string_view kWebSocketPath = "/ws";
 // How long linger() waits for the client to close its side.
 constexpr auto kLingerTimeout = std::chrono::seconds(2);
 
-char lower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
-
-bool equal_ignoring_case(std::string_view a, std::string_view b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    if (lower(a[i]) != lower(b[i])) return false;
-  }
-  return true;
-}
-
 // True unless the request comes from a web page of another origin than
 // this server's. Browsers send Origin with every WebSocket handshake and
 // let any page open one to any address, so without this check any site a
@@ -50,8 +41,8 @@ bool same_origin(const http::request_header<>& request) {
   if (origin.empty()) return true;
   const std::string_view host = request[http::field::host];
   for (const std::string_view scheme : {std::string_view("http://"), std::string_view("https://")}) {
-    if (origin.size() > scheme.size() && equal_ignoring_case(origin.substr(0, scheme.size()), scheme)) {
-      return !host.empty() && equal_ignoring_case(origin.substr(scheme.size()), host);
+    if (origin.size() > scheme.size() && equal_ignoring_ascii_case(origin.substr(0, scheme.size()), scheme)) {
+      return !host.empty() && equal_ignoring_ascii_case(origin.substr(scheme.size()), host);
     }
   }
   return false;  // "null" (a file:// page) and other schemes

@@ -14,6 +14,7 @@
 // Pure functions; thread-safe.
 #pragma once
 
+#include <cmath>
 #include <string>
 
 #include "sim/status.h"
@@ -51,6 +52,9 @@ inline constexpr Range kDensityRange{1e-6, 3e10, "kg/m^3"};
 // guard (physics::WorldSettings::max_state_magnitude), so a body placed
 // inside it is inside the world.
 inline constexpr double kMaxMagnitude = 1e9;
+
+// True when `value` is finite and at most kMaxMagnitude in magnitude.
+inline bool within_limits(double value) { return std::isfinite(value) && std::abs(value) <= kMaxMagnitude; }
 
 // A number as the messages print it: the shortest of up to 6 significant
 // digits, exponents without '+' or leading zeros ("1e-40", "1e9", "0.5").

@@ -7,6 +7,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "sim/body_limits.h"
+#include "sim/proto_math.h"
 #include "sim/string_limits.h"
 #include "tumble/physics/convex_hull.h"
 #include "tumble/physics/mass_properties.h"
@@ -14,10 +15,6 @@
 
 namespace tumble::sim {
 namespace {
-
-bool within_limits(double value) { return std::isfinite(value) && std::abs(value) <= kMaxMagnitude; }
-
-physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 // A point mass's offset from the body's origin: each component within the largest size.
 constexpr Range kPointOffsetRange{-kSizeRange.max, kSizeRange.max, "m"};

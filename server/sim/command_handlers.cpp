@@ -16,6 +16,7 @@
 #include "sim/joint_spec.h"
 #include "sim/log.h"
 #include "sim/log_text.h"
+#include "sim/proto_math.h"
 #include "sim/reply.h"
 #include "sim/simulation.h"
 #include "sim/world_state.h"
@@ -25,14 +26,6 @@ namespace {
 
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-
-physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
-  out->set_x(v.x());
-  out->set_y(v.y());
-  out->set_z(v.z());
-}
 
 ServerMessage unknown_body(const ClientMessage& message, const tumble::v1::BodyRef& ref) {
   return error_reply(message, tumble::v1::UNKNOWN_BODY, "no " + BodyDirectory::describe(ref) + " in the world");
@@ -55,10 +48,6 @@ physics::Vec3 body_point(const physics::World& world, physics::BodyId body, bool
   if (!has_point) return physics::Vec3::Zero();
   if (frame == tumble::v1::FRAME_BODY) return to_vec3(point);
   return world.orientation(body).conjugate() * (to_vec3(point) - world.position(body));
-}
-
-bool is_dynamic(const physics::World& world, physics::BodyId id) {
-  return world.motion_type(id) == physics::MotionType::dynamic_body;
 }
 
 // The request that cut a Step short with `end`, for the log.
@@ -219,7 +208,7 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
     set_vec3(world_.linear_velocity(id), info.mutable_linear_velocity());
     set_vec3(world_.angular_velocity(id), info.mutable_angular_velocity());
     info.set_motion(wire_motion(world_.motion_type(id)));
-    info.set_asleep(is_dynamic(world_, id) && !world_.is_awake(id));
+    info.set_asleep(sleeps(world_, id) && !world_.is_awake(id));
     // The body as the page encodes it.
     const std::size_t encoded = page_entry_bytes(info.ByteSizeLong());
     if (list->bodies_size() > 0 && page_bytes + encoded > config_.list_page_bytes) {

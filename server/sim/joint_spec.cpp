@@ -6,6 +6,7 @@
 
 #include "sim/body_limits.h"
 #include "sim/log_text.h"
+#include "sim/proto_math.h"
 #include "sim/string_limits.h"
 
 namespace tumble::sim {
@@ -13,14 +14,6 @@ namespace {
 
 using tumble::v1::JointSpec;
 using tumble::v1::JointType;
-
-physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
-
-void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
-  out->set_x(v.x());
-  out->set_y(v.y());
-  out->set_z(v.z());
-}
 
 // A length, angle, speed or force a joint may hold: finite, within kMaxMagnitude.
 Status check_number(double value, const std::string& path) {

@@ -10,9 +10,9 @@
 namespace tumble::sim {
 namespace {
 
-constexpr std::string_view kMagicV1 = "tumble-journal-v1\n";
-constexpr std::string_view kMagicV2 = "tumble-journal-v2\n";
-static_assert(kMagicV1.size() == kMagicV2.size());
+constexpr std::string_view kJournalMagicV1 = "tumble-journal-v1\n";
+constexpr std::string_view kJournalMagicV2 = "tumble-journal-v2\n";
+static_assert(kJournalMagicV1.size() == kJournalMagicV2.size());
 // A record's head: length, payload CRC, head CRC.
 constexpr std::size_t kHeadBytes = 12;
 // No single record comes near this: a command is at most a client frame
@@ -68,7 +68,7 @@ Status JournalWriter::open(const std::string& path, const tumble::v1::JournalHea
   path_ = path;
   file_.open(path, std::ios::binary | std::ios::trunc);
   if (!file_) return status_ = Status::error(path + ": cannot create the journal");
-  file_.write(kMagicV2.data(), static_cast<std::streamsize>(kMagicV2.size()));
+  file_.write(kJournalMagicV2.data(), static_cast<std::streamsize>(kJournalMagicV2.size()));
   write(header);
   flush();
   return status_;
@@ -171,11 +171,11 @@ bool JournalReader::read(google::protobuf::MessageLite* message) {
 Status JournalReader::open(const std::string& path) {
   file_.open(path, std::ios::binary);
   if (!file_) return Status::error(path + ": cannot open the journal");
-  std::string magic(kMagicV2.size(), '\0');
+  std::string magic(kJournalMagicV2.size(), '\0');
   file_.read(magic.data(), static_cast<std::streamsize>(magic.size()));
-  if (magic == kMagicV1) {
+  if (magic == kJournalMagicV1) {
     checksummed_ = false;
-  } else if (magic != kMagicV2) {
+  } else if (magic != kJournalMagicV2) {
     return Status::error(path + ": not a tumble journal (no 'tumble-journal-v2' or 'tumble-journal-v1' at its start)");
   }
   offset_ = magic.size();

@@ -20,8 +20,6 @@ std::optional<RequestError> invalid(std::string message) {
   return RequestError{tumble::v1::INVALID_ARGUMENT, std::move(message)};
 }
 
-bool within_limits(double value) { return std::isfinite(value) && std::abs(value) <= kMaxMagnitude; }
-
 std::optional<RequestError> check_vec3(const tumble::v1::Vec3& v, const char* field) {
   if (within_limits(v.x()) && within_limits(v.y()) && within_limits(v.z())) return std::nullopt;
   return invalid(std::string(field) + " must have finite components of at most 1e9 in magnitude, got [" +

@@ -12,14 +12,6 @@
 #include "sim/world_state.h"
 
 namespace tumble::sim {
-namespace {
-
-double milliseconds(std::chrono::steady_clock::duration d) {
-  return std::chrono::duration<double, std::milli>(d).count();
-}
-
-}  // namespace
-
 Status Simulation::create(const tumble::v1::Scene& scene, const SimConfig& config, std::unique_ptr<Simulation>* out) {
   if (!std::isfinite(config.tick_rate_hz) || config.tick_rate_hz < kMinTickRateHz ||
       config.tick_rate_hz > kMaxTickRateHz) {

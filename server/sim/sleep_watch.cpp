@@ -1,13 +1,6 @@
 #include "sim/sleep_watch.h"
 
 namespace tumble::sim {
-namespace {
-
-bool is_dynamic(const physics::World& world, physics::BodyId id) {
-  return world.motion_type(id) == physics::MotionType::dynamic_body;
-}
-
-}  // namespace
 
 void SleepWatch::start(const physics::World& world) {
   watching_ = true;
@@ -23,7 +16,7 @@ void SleepWatch::scan(const physics::World& world, const BodyDirectory& director
                       WorldEvents* events) {
   for (std::size_t i = 0; i < world.body_count(); ++i) {
     const physics::BodyId id = world.body_id_at(i);
-    if (!is_dynamic(world, id)) continue;
+    if (!sleeps(world, id)) continue;
     if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
     const std::uint8_t awake = world.is_awake(id) ? 1 : 0;
     if (awake == awake_[id]) continue;
@@ -34,7 +27,7 @@ void SleepWatch::scan(const physics::World& world, const BodyDirectory& director
 }
 
 void SleepWatch::add(const physics::World& world, physics::BodyId id) {
-  if (!watching_ || !is_dynamic(world, id)) return;
+  if (!watching_ || !sleeps(world, id)) return;
   if (id >= awake_.size()) awake_.resize(static_cast<std::size_t>(id) + 1, 1);
   awake_[id] = world.is_awake(id) ? 1 : 0;
 }

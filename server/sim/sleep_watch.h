@@ -15,6 +15,12 @@
 
 namespace tumble::sim {
 
+// True when body `id` sleeps and wakes: a dynamic body. Static and
+// kinematic bodies never sleep.
+inline bool sleeps(const physics::World& world, physics::BodyId id) {
+  return world.motion_type(id) == physics::MotionType::dynamic_body;
+}
+
 class SleepWatch {
  public:
   bool watching() const { return watching_; }

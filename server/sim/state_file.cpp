@@ -17,8 +17,8 @@
 namespace tumble::sim {
 namespace {
 
-constexpr std::string_view kMagicV1 = "tumble-state-v1\n";
-constexpr std::string_view kMagicV2 = "tumble-state-v2\n";
+constexpr std::string_view kStateMagicV1 = "tumble-state-v1\n";
+constexpr std::string_view kStateMagicV2 = "tumble-state-v2\n";
 constexpr std::size_t kMagicBytes = 16;
 constexpr std::size_t kLengthBytes = 8;
 constexpr std::size_t kCrcBytes = 4;
@@ -28,7 +28,7 @@ constexpr std::size_t kFramingBytes = kMagicBytes + kLengthBytes + kCrcBytes;
 // protobuf's 2 GiB message limit.
 constexpr std::uint64_t kMaxPayloadBytes = std::uint64_t{1} << 30;
 
-static_assert(kMagicV1.size() == kMagicBytes && kMagicV2.size() == kMagicBytes);
+static_assert(kStateMagicV1.size() == kMagicBytes && kStateMagicV2.size() == kMagicBytes);
 
 std::string errno_text() { return std::strerror(errno); }
 
@@ -95,7 +95,7 @@ std::string directory_of(const std::string& path) {
 bool encode_state_file(const tumble::v1::WorldState& state, std::string* bytes) {
   std::string payload;
   if (!state.SerializeToString(&payload) || payload.size() > kMaxPayloadBytes) return false;
-  bytes->assign(kMagicV2);
+  bytes->assign(kStateMagicV2);
   append_le(payload.size(), kLengthBytes, bytes);
   bytes->append(payload);
   append_le(crc32c::mask(crc32c::value(payload)), kCrcBytes, bytes);
@@ -105,13 +105,13 @@ bool encode_state_file(const tumble::v1::WorldState& state, std::string* bytes) 
 Status parse_state_file(std::string_view bytes, tumble::v1::WorldState* state, StateFileFormat* format) {
   if (bytes.empty()) return Status::error("the file is empty");
   if (bytes.size() < kMagicBytes &&
-      (kMagicV2.substr(0, bytes.size()) == bytes || kMagicV1.substr(0, bytes.size()) == bytes)) {
+      (kStateMagicV2.substr(0, bytes.size()) == bytes || kStateMagicV1.substr(0, bytes.size()) == bytes)) {
     return Status::error("cut short inside its magic (" + std::to_string(bytes.size()) + " bytes)");
   }
   const std::string_view magic = bytes.substr(0, kMagicBytes);
   const std::string_view rest = bytes.substr(std::min(bytes.size(), kMagicBytes));
 
-  if (magic == kMagicV1) {
+  if (magic == kStateMagicV1) {
     *format = StateFileFormat::v1;
     if (rest.empty()) return Status::error("nothing after its magic: the file holds no world");
     // One flipped byte turns "v2" into "v1"; such a file would otherwise be
@@ -121,7 +121,7 @@ Status parse_state_file(std::string_view bytes, tumble::v1::WorldState* state, S
     }
     return parse_payload(rest, state);
   }
-  if (magic != kMagicV2) {
+  if (magic != kStateMagicV2) {
     return Status::error("not a tumble state file (it does not start with 'tumble-state-v2' or 'tumble-state-v1')");
   }
   *format = StateFileFormat::v2;

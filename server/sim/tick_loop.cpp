@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "sim/log.h"
+#include "sim/tick_timing.h"
 
 namespace tumble::sim {
 namespace {
@@ -15,8 +16,6 @@ using Clock = std::chrono::steady_clock;
 Clock::duration period_of(double tick_rate_hz) {
   return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / tick_rate_hz));
 }
-
-double milliseconds(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
 }  // namespace
 

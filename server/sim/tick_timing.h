@@ -15,6 +15,11 @@
 
 namespace tumble::sim {
 
+// A span of the steady clock in milliseconds, as TickTiming records them.
+inline double milliseconds(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double, std::milli>(d).count();
+}
+
 class TickTiming {
  public:
   using Clock = std::chrono::steady_clock;

@@ -10,18 +10,11 @@
 #include "sim/joint_spec.h"
 #include "sim/log.h"
 #include "sim/log_text.h"
+#include "sim/proto_math.h"
 #include "sim/string_limits.h"
 
 namespace tumble::sim {
 namespace {
-
-void set_vec3(const physics::Vec3& v, tumble::v1::Vec3* out) {
-  out->set_x(v.x());
-  out->set_y(v.y());
-  out->set_z(v.z());
-}
-
-physics::Vec3 to_vec3(const tumble::v1::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 bool finite(const tumble::v1::Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
 
@@ -39,13 +32,6 @@ const tumble::v1::BodySpec& allowed_name(const tumble::v1::SavedBody& saved, con
   return *renamed;
 }
 
-void set_quat(const physics::Quat& q, tumble::v1::Quat* out) {
-  out->set_w(q.w());
-  out->set_x(q.x());
-  out->set_y(q.y());
-  out->set_z(q.z());
-}
-
 bool finite(const tumble::v1::Quat& q) {
   return std::isfinite(q.w()) && std::isfinite(q.x()) && std::isfinite(q.y()) && std::isfinite(q.z());
 }
@@ -55,8 +41,6 @@ bool finite(const tumble::v1::Quat& q) {
 bool unit(const tumble::v1::Quat& q) {
   return finite(q) && std::abs(std::sqrt(q.w() * q.w() + q.x() * q.x() + q.y() * q.y() + q.z() * q.z()) - 1.0) <= 1e-6;
 }
-
-physics::Quat to_quat(const tumble::v1::Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
 
 void save_joint(const physics::World& world, const JointDirectory& joints, physics::JointId id,
                 tumble::v1::SavedJoint* saved) {

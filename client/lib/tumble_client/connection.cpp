@@ -10,6 +10,7 @@
 
 #include <boost/asio.hpp>
 
+#include "tumble_client/deadline.h"
 #include "wire/frame.h"
 
 namespace tumble::client {
@@ -21,19 +22,6 @@ using Clock = std::chrono::steady_clock;
 using ErrorCode = boost::system::error_code;
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-
-// When a call must give up, and the timeout it came from (for messages).
-struct Deadline {
-  std::optional<Clock::time_point> at;  // none: never
-  Timeout timeout{};
-};
-
-Deadline deadline_after(Timeout timeout) {
-  if (timeout < Timeout::zero()) timeout = Timeout::zero();
-  const Clock::time_point now = Clock::now();
-  if (timeout >= Clock::time_point::max() - now) return Deadline{std::nullopt, timeout};
-  return Deadline{now + timeout, timeout};
-}
 
 // "timed out after 5 s waiting for the reply to ListBodies".
 Failure timed_out(const Deadline& deadline, const std::string& activity) {
@@ -210,7 +198,7 @@ Result<ServerMessage> Connection::State::read(const Deadline& deadline, const st
 Result<Connection> Connection::connect(const Endpoint& endpoint, const std::string& client_name,
                                        const std::string& token, Timeout timeout) {
   auto state = std::make_unique<State>(endpoint);
-  const Deadline deadline = deadline_after(timeout);
+  const Deadline deadline = Deadline::after(timeout);
   const std::string where = to_string(endpoint);
 
   // An address is used as it is. A host name goes to the system resolver,
@@ -286,7 +274,7 @@ Result<ServerMessage> Connection::request(ClientMessage message, Timeout timeout
   State& state = *state_;
   const std::uint64_t id = state.next_request_id++;
   message.set_request_id(id);
-  const Deadline deadline = deadline_after(timeout);
+  const Deadline deadline = Deadline::after(timeout);
   if (auto failure = state.write(message, deadline)) return *failure;
 
   const std::string name = kind_name(message);
@@ -314,7 +302,7 @@ Result<ServerMessage> Connection::request(ClientMessage message, Timeout timeout
 Result<ServerMessage> Connection::next_message(Timeout timeout) {
   State& state = *state_;
   if (auto queued = state.take_queued()) return std::move(*queued);
-  const Deadline deadline = deadline_after(timeout);
+  const Deadline deadline = Deadline::after(timeout);
   for (;;) {
     auto received = state.read(deadline, "waiting for a message from the server");
     if (!received || is_unsolicited(received.value())) return received;

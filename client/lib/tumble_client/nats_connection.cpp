@@ -12,6 +12,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "tumble_client/deadline.h"
 #include "tumble_client/nats_subjects.h"
 #include "tumble_client/sequence_gate.h"
 
@@ -140,13 +141,6 @@ void on_closed(natsConnection*, void* closure) {
     }
     mailbox->changed.notify_all();
   }
-}
-
-std::optional<Clock::time_point> deadline_after(Timeout timeout) {
-  if (timeout < Timeout::zero()) timeout = Timeout::zero();
-  const Clock::time_point now = Clock::now();
-  if (timeout >= Clock::time_point::max() - now) return std::nullopt;
-  return now + timeout;
 }
 
 std::int64_t milliseconds(Timeout timeout) {
@@ -356,7 +350,7 @@ Result<ServerMessage> NatsConnection::request(ClientMessage message, Timeout tim
       message.has_list_bodies() || message.has_list_joints() || message.has_get_stats() || message.has_hello();
   const std::string subject = read_only ? query_subject(state.options.world) : rpc_subject(state.options.world);
   const std::string token = "r" + std::to_string(id);
-  const auto deadline = deadline_after(timeout);
+  const auto deadline = Deadline::after(timeout).at;
   if (auto failure = state.publish_request(subject, token, message.SerializeAsString())) return *failure;
 
   std::unique_lock lock(state.mailbox->mutex);
@@ -402,7 +396,7 @@ Result<ServerMessage> NatsConnection::request(ClientMessage message, Timeout tim
 Result<WorldInfos> NatsConnection::find_worlds(Timeout quiet, Timeout timeout) {
   State& state = *state_;
   const std::string token = "w" + std::to_string(state.next_token++);
-  const auto deadline = deadline_after(timeout);
+  const auto deadline = Deadline::after(timeout).at;
   if (auto failure = state.publish_request(std::string(kWorldsSubject), token, "")) return *failure;
 
   WorldInfos worlds;
@@ -413,7 +407,7 @@ Result<WorldInfos> NatsConnection::find_worlds(Timeout quiet, Timeout timeout) {
   };
   for (;;) {
     // Each reply opens another quiet period, never past the deadline.
-    auto until = deadline_after(quiet);
+    auto until = Deadline::after(quiet).at;
     if (deadline && until && *deadline < *until) until = deadline;
     if (!state.wait(lock, until, [&] { return mine() != replies.end(); })) break;
     const auto found = mine();
@@ -507,7 +501,7 @@ Result<tumble::v1::Subscribed> NatsConnection::subscribe(const tumble::v1::Subsc
 
 Result<ServerMessage> NatsConnection::next_message(Timeout timeout) {
   State& state = *state_;
-  const auto deadline = deadline_after(timeout);
+  const auto deadline = Deadline::after(timeout).at;
   for (;;) {
     std::unique_lock lock(state.mailbox->mutex);
     std::deque<Delivery>& stream = state.mailbox->stream;
