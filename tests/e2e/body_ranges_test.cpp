@@ -20,12 +20,6 @@ namespace {
 
 using nlohmann::json;
 
-// SIGTERM, and the exit code.
-int terminate(TumbledProcess& server) {
-  server.process().signal(SIGTERM);
-  return server.process().wait(std::chrono::seconds(30)).value_or(-1);
-}
-
 // Every number of every body in a `tumble --json bodies` list is a finite number (JSON has no NaN: it prints null).
 void expect_finite_bodies(const json& list) {
   for (const json& body : list["bodies"]) {

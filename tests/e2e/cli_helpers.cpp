@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "poll_until.h"
+#include "sim/state_file.h"
 
 namespace tumble::test {
 
@@ -31,6 +32,18 @@ json run_json(const TumbledProcess& server, std::vector<std::string> args) {
 void run_ok(const TumbledProcess& server, const std::vector<std::string>& args) {
   const CommandResult result = server.cli(args);
   EXPECT_EQ(result.exit_code, 0) << "tumble " << args[0] << ": " << result.err;
+}
+
+int terminate(TumbledProcess& server) {
+  server.process().signal(SIGTERM);
+  return server.process().wait(std::chrono::seconds(30)).value_or(-1);
+}
+
+std::uint64_t checkpoint_tick(const std::string& path) {
+  tumble::v1::WorldState state;
+  bool exists = false;
+  if (!sim::read_state_file(path, &state, &exists).ok() || !exists) return 0;
+  return state.tick();
 }
 
 const json* find_body(const json& list, const std::string& name) {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +39,13 @@ const nlohmann::json* find_body(const nlohmann::json& list, const std::string& n
 // The same, for a body that must be there: a test failure and a null JSON
 // value when it is not.
 const nlohmann::json& body(const nlohmann::json& list, const std::string& name);
+
+// Sends `server` SIGTERM and returns its exit code (-1 when it has not
+// ended within 30 s).
+int terminate(TumbledProcess& server);
+
+// The tick of the state file or checkpoint at `path`; 0 while there is none.
+std::uint64_t checkpoint_tick(const std::string& path);
 
 // The lines of `text`, without their newlines.
 std::vector<std::string> lines_of(const std::string& text);

@@ -140,14 +140,6 @@ bool wait_until(const std::function<bool()>& done, std::chrono::seconds limit = 
   return done();
 }
 
-// The tick of the checkpoint in `path`; 0 while there is none.
-std::uint64_t checkpoint_tick(const std::string& path) {
-  tumble::v1::WorldState state;
-  bool exists = false;
-  if (!sim::read_state_file(path, &state, &exists).ok() || !exists) return 0;
-  return state.tick();
-}
-
 double norm(double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); }
 
 // Expects a frame's body to show the saved body within what it can have

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "raw_client.h"
+#include "test_scenes.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
@@ -20,9 +21,6 @@ using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
 // A 2 kg crate at rest, no gravity.
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
 std::optional<ServerMessage> ask(RawClient& client, const ClientMessage& request) {
   if (!client.send(request)) return std::nullopt;
   return client.read_until([&](const ServerMessage& m) {
@@ -49,7 +47,7 @@ ClientMessage step(std::uint64_t id, std::uint32_t ticks) {
 // the next pass would be answered 250 ms later on average, so 40 of them
 // in a row would take 10 s. Taken up as they arrive, they take a few ms.
 TEST(Lockstep, APausedServerTakesAStepUpAsItArrives) {
-  TumbledProcess server(kScene, {"--tick-rate", "2"});
+  TumbledProcess server(kCrateScene, {"--tick-rate", "2"});
   ASSERT_TRUE(server.started()) << server.log();
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
@@ -70,7 +68,7 @@ TEST(Lockstep, APausedServerTakesAStepUpAsItArrives) {
 // carries the crate's state after the last one, as the integrator makes it
 // (semi-implicit Euler: v_n = n a dt, x_n = a dt^2 n (n + 1) / 2).
 TEST(Lockstep, AStepWithForcesIsAnsweredWithTheFrameOfItsLastTick) {
-  TumbledProcess server(kScene);
+  TumbledProcess server(kCrateScene);
   ASSERT_TRUE(server.started()) << server.log();
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());

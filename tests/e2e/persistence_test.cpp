@@ -30,25 +30,11 @@ const char* kPile = R"({"bodies": [
     {"name": "ball", "shape": {"sphere": {"radius": 0.3}}, "mass": 1, "restitution": 0.7, "position": [3, 4, 0]},
     {"name": "pill", "shape": {"capsule": {"radius": 0.2, "half_height": 0.4}}, "mass": 1, "position": [-3, 1, 0]}]})";
 
-// The tick of the checkpoint in `path`; 0 while there is none.
-std::uint64_t checkpoint_tick(const std::string& path) {
-  tumble::v1::WorldState state;
-  bool exists = false;
-  if (!sim::read_state_file(path, &state, &exists).ok() || !exists) return 0;
-  return state.tick();
-}
-
 // Waits until `server` has stepped `ticks` past the tick it is at now.
 void wait_for_ticks(const TumbledProcess& server, std::uint64_t ticks) {
   const std::uint64_t target = run_json(server, {"stats"})["tick"].get<std::uint64_t>() + ticks;
   EXPECT_TRUE(poll_until([&] { return run_json(server, {"stats"})["tick"].get<std::uint64_t>() >= target; }))
       << "the server did not reach tick " << target;
-}
-
-// SIGTERM, and the exit code.
-int terminate(TumbledProcess& server) {
-  server.process().signal(SIGTERM);
-  return server.process().wait(std::chrono::seconds(30)).value_or(-1);
 }
 
 TEST(Persistence, SigtermSavesTheWorldAndAStartResumesItExactly) {

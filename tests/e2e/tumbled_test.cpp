@@ -17,16 +17,14 @@
 #include <utility>
 #include <vector>
 
+#include "test_scenes.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
 namespace {
 
-const char* kScene =
-    R"({"bodies": [{"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
 TEST(Tumbled, StopsCleanlyOnSigterm) {
-  TumbledProcess server(kScene);
+  TumbledProcess server(kFallingCrateScene);
   ASSERT_TRUE(server.started()) << server.log();
   server.process().signal(SIGTERM);
   const auto code = server.process().wait(std::chrono::seconds(20));
@@ -36,7 +34,7 @@ TEST(Tumbled, StopsCleanlyOnSigterm) {
 }
 
 TEST(Tumbled, StopsCleanlyOnSigint) {
-  TumbledProcess server(kScene);
+  TumbledProcess server(kFallingCrateScene);
   ASSERT_TRUE(server.started()) << server.log();
   server.process().signal(SIGINT);
   const auto code = server.process().wait(std::chrono::seconds(20));
@@ -107,7 +105,7 @@ TEST(Tumbled, BadFlagsAreUsageErrors) {
 }
 
 TEST(Tumbled, AddressInUseIsAClearError) {
-  TumbledProcess first(kScene);
+  TumbledProcess first(kFallingCrateScene);
   ASSERT_TRUE(first.started());
   const CommandResult second = run_command({tumbled_path(), "--listen", first.server()});
   EXPECT_EQ(second.exit_code, 1);
@@ -216,7 +214,7 @@ bool may_use_fifo(int priority) {
 }
 
 TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
-  TumbledProcess server(kScene, {"--physics-threads", "2"});
+  TumbledProcess server(kFallingCrateScene, {"--physics-threads", "2"});
   ASSERT_TRUE(server.started()) << server.log();
   const auto threads = threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 1}});
   ASSERT_TRUE(threads.contains("tumbled-sim")) << server.log();
@@ -227,7 +225,7 @@ TEST(Tumbled, ThreadsRunUnderOrdinarySchedulingByDefault) {
 TEST(Tumbled, TheSimAndNetworkThreadsAskForAShortSlice) {
   if (!kernel_takes_slices()) GTEST_SKIP() << "this kernel does not let a thread choose its time slice";
   const std::string dir = make_temp_dir();
-  TumbledProcess server(kScene,
+  TumbledProcess server(kFallingCrateScene,
                         {"--physics-threads", "2", "--state", dir + "/world.state", "--checkpoint-interval", "60"});
   ASSERT_TRUE(server.started()) << server.log();
   const auto threads =
@@ -248,8 +246,8 @@ TEST(Tumbled, TheSimAndNetworkThreadsAskForAShortSlice) {
 TEST(Tumbled, RealtimePriorityPutsTheSimAndNetworkThreadsUnderFifo) {
   if (!may_use_fifo(3)) GTEST_SKIP() << "this process may not use SCHED_FIFO (no CAP_SYS_NICE, ulimit -r 0)";
   const std::string dir = make_temp_dir();
-  TumbledProcess server(kScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state", dir + "/world.state",
-                                 "--checkpoint-interval", "60", "--keep-cpus-awake"});
+  TumbledProcess server(kFallingCrateScene, {"--realtime-priority", "3", "--physics-threads", "3", "--state",
+                                             dir + "/world.state", "--checkpoint-interval", "60", "--keep-cpus-awake"});
   ASSERT_TRUE(server.started()) << server.log();
   const auto threads =
       threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 2}, {"tumbled-saver", 1}});
@@ -295,7 +293,7 @@ std::uint64_t time_on_cpu_ns(pid_t pid, pid_t tid) {
 }
 
 TEST(Tumbled, KeepCpusAwakePinsAnIdleSpinnerToEachCpu) {
-  TumbledProcess server(kScene, {"--keep-cpus-awake"});
+  TumbledProcess server(kFallingCrateScene, {"--keep-cpus-awake"});
   ASSERT_TRUE(server.started()) << server.log();
   const pid_t pid = server.process().pid();
   cpu_set_t mask;
@@ -410,7 +408,7 @@ TEST(Tumbled, RealtimePriorityInAControlGroupWithoutRealTimeTimeNamesTheGroup) {
 // --physics-threads N: N - 1 helpers beside the sim thread; 1, none.
 TEST(Tumbled, PhysicsThreadsStartThatManyHelpers) {
   {
-    TumbledProcess server(kScene, {"--physics-threads", "4"});
+    TumbledProcess server(kFallingCrateScene, {"--physics-threads", "4"});
     ASSERT_TRUE(server.started()) << server.log();
     const auto threads = threads_once_running(server.process().pid(), {{"tumbled-sim", 1}, {"tumble-physics", 3}});
     ASSERT_TRUE(threads.contains("tumble-physics")) << server.log();
@@ -422,7 +420,7 @@ TEST(Tumbled, PhysicsThreadsStartThatManyHelpers) {
     ASSERT_TRUE(after.contains("tumble-physics")) << server.log();
     EXPECT_EQ(after.at("tumble-physics").count, 3);
   }
-  TumbledProcess server(kScene, {"--physics-threads", "1"});
+  TumbledProcess server(kFallingCrateScene, {"--physics-threads", "1"});
   ASSERT_TRUE(server.started()) << server.log();
   // A command answered means the sim thread is past starting its helpers.
   ASSERT_EQ(server.cli({"bodies"}).exit_code, 0) << server.log();

@@ -8,13 +8,11 @@
 
 #include "raw_client.h"
 #include "sim/journal.h"
+#include "test_scenes.h"
 #include "tumbled_process.h"
 
 namespace tumble::test {
 namespace {
-
-const char* kScene =
-    R"({"bodies": [{"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
 
 TEST(Version, TumbledAndTumblePrintTheProjectVersion) {
   for (const char* program : {tumbled_path(), tumble_cli_path()}) {
@@ -26,7 +24,7 @@ TEST(Version, TumbledAndTumblePrintTheProjectVersion) {
 
 TEST(Version, WelcomeAndJournalCarryTheProjectVersion) {
   const std::string journal_path = make_temp_dir() + "/run.journal";
-  TumbledProcess server(kScene, {"--record", journal_path});
+  TumbledProcess server(kFallingCrateScene, {"--record", journal_path});
   ASSERT_TRUE(server.started()) << server.log();
   RawClient client(server.port());
   const auto welcome = client.handshake();

@@ -24,19 +24,19 @@ namespace tumble::test {
 namespace {
 
 using nlohmann::json;
-constexpr auto parse = parse_server_message;
 constexpr std::uint64_t kTickRateHz = 240;  // tumbled's default
 
 // The frames a collector holds, by sequence.
 std::map<std::uint64_t, std::string> by_sequence(NatsCollector& collector) {
   std::map<std::uint64_t, std::string> frames;
-  for (const NatsMessage& m : collector.messages()) frames[parse(m.data).pose_frame().sequence()] = m.data;
+  for (const NatsMessage& m : collector.messages())
+    frames[parse_server_message(m.data).pose_frame().sequence()] = m.data;
   return frames;
 }
 
 std::uint64_t last_sequence(NatsCollector& collector) {
   const std::vector<NatsMessage> messages = collector.messages();
-  return messages.empty() ? 0 : parse(messages.back().data).pose_frame().sequence();
+  return messages.empty() ? 0 : parse_server_message(messages.back().data).pose_frame().sequence();
 }
 
 class NatsClusterWorld : public ::testing::Test {
@@ -56,7 +56,7 @@ class NatsClusterWorld : public ::testing::Test {
   // tumbled's link as it reports it over .rpc, asked through node `via`.
   tumble::v1::NatsLink link_through(std::size_t via) {
     auto reply = clients_[via]->request("tumble.v1.lab.rpc", stats_request(1), std::chrono::milliseconds(500));
-    return reply ? parse(*reply).stats().nats() : tumble::v1::NatsLink{};
+    return reply ? parse_server_message(*reply).stats().nats() : tumble::v1::NatsLink{};
   }
 
   NatsCluster cluster_;
@@ -73,7 +73,7 @@ TEST_F(NatsClusterWorld, SubscribersOnEveryNodeGetTheSameFrames) {
   for (auto& collector : frames) upto = std::max(upto, last_sequence(*collector));
   for (auto& collector : frames) {
     ASSERT_TRUE(collector->wait([&](const std::vector<NatsMessage>& messages) {
-      return parse(messages.back().data).pose_frame().sequence() >= upto;
+      return parse_server_message(messages.back().data).pose_frame().sequence() >= upto;
     }));
   }
   const std::vector<std::map<std::uint64_t, std::string>> seen = {by_sequence(*frames[0]), by_sequence(*frames[1]),
@@ -125,11 +125,12 @@ TEST_F(NatsClusterWorld, WhenTumbledsNodeIsKilledItPublishesThroughAnotherWithin
 
   // Frames go on for the survivor's subscriber, in sequence.
   ASSERT_TRUE(frames->wait([&](const std::vector<NatsMessage>& messages) {
-    return parse(messages.back().data).pose_frame().sequence() > sequence_at_kill + 60;
+    return parse_server_message(messages.back().data).pose_frame().sequence() > sequence_at_kill + 60;
   })) << tumbled_->log();
   const std::vector<NatsMessage> messages = frames->messages();
   for (std::size_t i = 1; i < messages.size(); ++i) {
-    EXPECT_GT(parse(messages[i].data).pose_frame().sequence(), parse(messages[i - 1].data).pose_frame().sequence());
+    EXPECT_GT(parse_server_message(messages[i].data).pose_frame().sequence(),
+              parse_server_message(messages[i - 1].data).pose_frame().sequence());
   }
 }
 

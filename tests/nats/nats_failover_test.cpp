@@ -27,7 +27,6 @@ namespace {
 
 using tumble::v1::ServerMessage;
 
-constexpr auto parse = parse_server_message;
 constexpr std::uint64_t kTicksPerSecond = 240;  // tumbled's default tick rate
 constexpr double kCheckpointInterval = 0.25;    // s
 constexpr std::uint64_t kCheckpointTicks = 60;  // the same in ticks
@@ -46,7 +45,7 @@ struct Seen {
 std::vector<Seen> seen_frames(NatsCollector& stream, std::optional<std::uint32_t> crate = std::nullopt) {
   std::vector<Seen> seen;
   for (const NatsMessage& message : stream.messages()) {
-    const tumble::v1::PoseFrame frame = parse(message.data).pose_frame();
+    const tumble::v1::PoseFrame frame = parse_server_message(message.data).pose_frame();
     for (int i = 0; i < frame.ids_size(); ++i) {
       if (crate && frame.ids(i) != *crate) continue;
       seen.push_back(
@@ -186,17 +185,18 @@ TEST_F(NatsFailover, TheStandbyLeadsAfterTheLeaderIsKilledAndTheWorldGoesOnFromI
   tumble::v1::ClientMessage list;
   list.set_request_id(2);
   list.mutable_list_bodies();
-  const ServerMessage bodies = parse(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
+  const ServerMessage bodies = parse_server_message(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
   std::optional<std::uint32_t> crate;
   for (const auto& body : bodies.body_list().bodies()) {
     if (body.name() == "crate") crate = body.id();
   }
   ASSERT_TRUE(crate) << bodies.DebugString();
   // 480 N for one tick on 2 kg: the crate drifts along x at 1 m/s.
-  const ServerMessage ack = parse(*client.request("tumble.v1.lab.rpc", force_request("crate", 480, 1)));
+  const ServerMessage ack = parse_server_message(*client.request("tumble.v1.lab.rpc", force_request("crate", 480, 1)));
   ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
   ASSERT_TRUE(stream->wait([&](const std::vector<NatsMessage>& messages) {
-    return parse(messages.back().data).pose_frame().tick() > ack.ack().applied_tick() + 2 * kTicksPerSecond;
+    return parse_server_message(messages.back().data).pose_frame().tick() >
+           ack.ack().applied_tick() + 2 * kTicksPerSecond;
   }));
 
   // The CLI reads the stream too, through another node, and rides through.
@@ -234,7 +234,7 @@ TEST_F(NatsFailover, TheStandbyLeadsAfterTheLeaderIsKilledAndTheWorldGoesOnFromI
   // A second of the new leader's frames.
   const std::uint64_t resumed_at = seen_frames(*stream).back().tick;
   ASSERT_TRUE(stream->wait([&](const std::vector<NatsMessage>& messages) {
-    return parse(messages.back().data).pose_frame().tick() > resumed_at + kTicksPerSecond;
+    return parse_server_message(messages.back().data).pose_frame().tick() > resumed_at + kTicksPerSecond;
   }));
 
   const std::vector<Seen> seen = seen_frames(*stream, crate);
@@ -297,7 +297,7 @@ TEST_F(NatsFailover, ALeaderStoppedPastTheTimeoutPublishesNothingMoreAndComesBac
   // Another second of frames: every one from the new leader.
   const std::uint64_t from = seen_frames(*stream).back().tick;
   ASSERT_TRUE(stream->wait([&](const std::vector<NatsMessage>& messages) {
-    return parse(messages.back().data).pose_frame().tick() > from + kTicksPerSecond;
+    return parse_server_message(messages.back().data).pose_frame().tick() > from + kTicksPerSecond;
   }));
   const std::vector<Seen> seen = seen_frames(*stream);
   expect_one_publisher_at_a_time(seen);

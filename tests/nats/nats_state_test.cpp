@@ -27,7 +27,6 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-constexpr auto parse = parse_server_message;
 constexpr const char* kBucket = "tumble_worlds";
 constexpr const char* kEmptyScene = R"({"gravity": [0, 0, 0], "bodies": []})";
 
@@ -65,12 +64,6 @@ std::string list_bodies_request(std::uint64_t request_id) {
   return message.SerializeAsString();
 }
 
-// SIGTERM, and the exit status (nullopt: it did not exit in time).
-std::optional<int> terminate(TumbledProcess& tumbled) {
-  tumbled.process().signal(SIGTERM);
-  return tumbled.process().wait(std::chrono::seconds(30));
-}
-
 class NatsState : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -90,7 +83,7 @@ class NatsState : public ::testing::Test {
     std::optional<tumble::v1::Stats> stats;
     poll_until([&] {
       auto reply = client.request("tumble.v1.lab.rpc", stats_request(1), std::chrono::milliseconds(500));
-      if (reply && parse(*reply).has_stats()) stats = parse(*reply).stats();
+      if (reply && parse_server_message(*reply).has_stats()) stats = parse_server_message(*reply).stats();
       return stats.has_value();
     });
     return stats;
@@ -117,7 +110,7 @@ TEST_F(NatsState, CheckpointsLandInTheBucketAndTheNextStartResumesFromTheLastOne
   // Stats say what was written. Paused, the world stops changing, so the
   // last checkpoint reported comes to be the one the bucket holds.
   const auto clock = [&](ClockRequest kind, std::uint64_t id) {
-    return parse(*client.request("tumble.v1.lab.rpc", clock_request(kind, id, 0).SerializeAsString()));
+    return parse_server_message(*client.request("tumble.v1.lab.rpc", clock_request(kind, id, 0).SerializeAsString()));
   };
   ASSERT_TRUE(clock(ClockRequest::pause, 5).has_ack());
   std::optional<tumble::v1::Stats> now;
@@ -138,7 +131,7 @@ TEST_F(NatsState, CheckpointsLandInTheBucketAndTheNextStartResumesFromTheLastOne
   ASSERT_TRUE(clock(ClockRequest::resume, 6).has_ack());
 
   // 480 N for one tick of 1/240 s on 2 kg: the crate drifts at 1 m/s.
-  const ServerMessage ack = parse(*client.request("tumble.v1.lab.rpc", force_request("crate", 480, 2)));
+  const ServerMessage ack = parse_server_message(*client.request("tumble.v1.lab.rpc", force_request("crate", 480, 2)));
   ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
   ASSERT_EQ(terminate(*first), 0) << first->log();
   EXPECT_NE(first->log().find("saved the world at tick"), std::string::npos) << first->log();
@@ -155,7 +148,7 @@ TEST_F(NatsState, CheckpointsLandInTheBucketAndTheNextStartResumesFromTheLastOne
   const auto resumed = stats(client);
   ASSERT_TRUE(resumed);
   EXPECT_GE(resumed->tick(), last->state.tick());
-  const ServerMessage list = parse(*client.request("tumble.v1.lab.rpc", list_bodies_request(3)));
+  const ServerMessage list = parse_server_message(*client.request("tumble.v1.lab.rpc", list_bodies_request(3)));
   ASSERT_EQ(list.body_list().bodies_size(), 2) << list.DebugString();
   ASSERT_EQ(terminate(*second), 0) << second->log();
   // It went on from there: the crate is where 1 m/s took it since.
@@ -201,7 +194,7 @@ TEST_F(NatsState, ADamagedValueIsRefusedNamingTheBucketAndKeyUnlessResetStartsFr
   ASSERT_TRUE(poll_until([&] {
     return (listed = client.request("tumble.v1.lab.rpc", list_bodies_request(1))).has_value();
   })) << client.error();
-  const ServerMessage list = parse(*listed);
+  const ServerMessage list = parse_server_message(*listed);
   EXPECT_EQ(list.body_list().bodies_size(), 2) << list.DebugString();
   EXPECT_TRUE(poll_until([&] {
     const auto value = client.kv_get(kBucket, "lab");
@@ -324,8 +317,8 @@ TEST(NatsStateCluster, AfterTheWholeClusterAndTheServerRestartTheWorldGoesOnFrom
       reply = client.request("tumble.v1.lab.rpc", force_request("crate", 480, 1), std::chrono::milliseconds(500));
       return reply.has_value();
     }));
-    ASSERT_TRUE(parse(*reply).has_ack()) << parse(*reply).DebugString();
-    const std::uint64_t pushed = parse(*reply).ack().applied_tick();
+    ASSERT_TRUE(parse_server_message(*reply).has_ack()) << parse_server_message(*reply).DebugString();
+    const std::uint64_t pushed = parse_server_message(*reply).ack().applied_tick();
     ASSERT_TRUE(poll_until([&] {
       last = checkpoint_of(client);
       return last && last->state.tick() > pushed;

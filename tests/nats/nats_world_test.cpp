@@ -28,8 +28,6 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-constexpr auto parse = parse_server_message;
-
 class NatsWorld : public ::testing::Test {
  protected:
   void SetUp() override { ASSERT_TRUE(nats_.start()) << nats_.log(); }
@@ -55,7 +53,7 @@ class NatsWorld : public ::testing::Test {
   bool wait_connected(NatsTestClient& client) {
     return poll_until([&] {
       auto reply = client.request("tumble.v1.lab.rpc", stats_request(1), std::chrono::milliseconds(500));
-      return reply && parse(*reply).stats().nats().connected();
+      return reply && parse_server_message(*reply).stats().nats().connected();
     });
   }
 
@@ -91,7 +89,7 @@ TEST_F(NatsWorld, AForceOverRpcIsAckedAndMovesTheBodyInTheNextFullFrame) {
   ASSERT_TRUE(frames);
   auto reply = client.request("tumble.v1.lab.rpc", force_request("crate", 240, 7));
   ASSERT_TRUE(reply) << client.error();
-  const ServerMessage ack = parse(*reply);
+  const ServerMessage ack = parse_server_message(*reply);
   ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
   EXPECT_EQ(ack.ack().request_id(), 7u);
   const std::uint64_t applied = ack.ack().applied_tick();
@@ -99,13 +97,13 @@ TEST_F(NatsWorld, AForceOverRpcIsAckedAndMovesTheBodyInTheNextFullFrame) {
   // A frame of a tick after the force shows the crate moving along +x.
   ASSERT_TRUE(frames->wait([&](const std::vector<NatsMessage>& messages) {
     for (const NatsMessage& m : messages) {
-      const ServerMessage frame = parse(m.data);
+      const ServerMessage frame = parse_server_message(m.data);
       if (frame.pose_frame().tick() > applied) return true;
     }
     return false;
   }));
   for (const NatsMessage& m : frames->messages()) {
-    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    const tumble::v1::PoseFrame frame = parse_server_message(m.data).pose_frame();
     if (frame.tick() <= applied) continue;
     ASSERT_GE(frame.linear_velocities_size(), 3);
     // The crate is body 1 of the floating scene: first in the frame.
@@ -120,14 +118,14 @@ TEST_F(NatsWorld, APayloadThatIsNotAClientMessageGetsAnErrorAndChangesNothing) {
   ASSERT_TRUE(wait_connected(client));
   auto reply = client.request("tumble.v1.lab.rpc", std::string("\xff\xff\xff\x0f garbage", 12));
   ASSERT_TRUE(reply) << client.error();
-  const ServerMessage error = parse(*reply);
+  const ServerMessage error = parse_server_message(*reply);
   ASSERT_TRUE(error.has_error());
   EXPECT_EQ(error.error().code(), tumble::v1::INVALID_ARGUMENT);
   EXPECT_NE(error.error().message().find("not a ClientMessage"), std::string::npos);
   // The world is as it was: both bodies still at rest in the floating scene.
   auto frames = client.subscribe("tumble.v1.lab.poses.f");
   ASSERT_TRUE(frames && frames->wait_count(1));
-  const tumble::v1::PoseFrame frame = parse(frames->messages()[0].data).pose_frame();
+  const tumble::v1::PoseFrame frame = parse_server_message(frames->messages()[0].data).pose_frame();
   ASSERT_EQ(frame.ids_size(), 2);
   for (int i = 0; i < frame.linear_velocities_size(); ++i) EXPECT_EQ(frame.linear_velocities(i), 0.0f);
 }
@@ -141,7 +139,7 @@ TEST_F(NatsWorld, SubscribeOverRpcIsRefusedNamingThePoseSubject) {
   subscribe.mutable_subscribe()->set_rate_hz(10);
   auto reply = client.request("tumble.v1.lab.rpc", subscribe.SerializeAsString());
   ASSERT_TRUE(reply);
-  const ServerMessage error = parse(*reply);
+  const ServerMessage error = parse_server_message(*reply);
   ASSERT_TRUE(error.has_error());
   EXPECT_EQ(error.error().request_id(), 3u);
   EXPECT_EQ(error.error().code(), tumble::v1::INVALID_ARGUMENT);
@@ -152,7 +150,7 @@ TEST_F(NatsWorld, StatsOverRpcAndTcpReportTheLink) {
   auto tumbled = start_tumbled();
   NatsTestClient client(nats_.url());
   ASSERT_TRUE(wait_connected(client));
-  const ServerMessage stats = parse(*client.request("tumble.v1.lab.rpc", stats_request(5)));
+  const ServerMessage stats = parse_server_message(*client.request("tumble.v1.lab.rpc", stats_request(5)));
   EXPECT_EQ(stats.stats().request_id(), 5u);
   EXPECT_TRUE(stats.stats().nats().connected());
   EXPECT_EQ(stats.stats().nats().world(), "lab");
@@ -170,12 +168,12 @@ TEST_F(NatsWorld, ListBodiesOverRpcIsPaged) {
   ClientMessage list;
   list.set_request_id(9);
   list.mutable_list_bodies()->set_max_bodies(1);
-  const ServerMessage first = parse(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
+  const ServerMessage first = parse_server_message(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
   ASSERT_TRUE(first.has_body_list()) << first.DebugString();
   ASSERT_EQ(first.body_list().bodies_size(), 1);
   EXPECT_GT(first.body_list().next_start_id(), 0u);
   list.mutable_list_bodies()->set_start_id(first.body_list().next_start_id());
-  const ServerMessage second = parse(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
+  const ServerMessage second = parse_server_message(*client.request("tumble.v1.lab.rpc", list.SerializeAsString()));
   ASSERT_EQ(second.body_list().bodies_size(), 1);
   EXPECT_NE(second.body_list().bodies(0).id(), first.body_list().bodies(0).id());
 }
@@ -190,19 +188,19 @@ TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheRestI
   ASSERT_TRUE(quantized && delta);
   // 2.5 s of sim time at rest, then a push that leaves the crate drifting.
   ASSERT_TRUE(delta->wait_count(150));
-  const ServerMessage ack = parse(*client.request("tumble.v1.lab.rpc", force_request("crate", 100, 1)));
+  const ServerMessage ack = parse_server_message(*client.request("tumble.v1.lab.rpc", force_request("crate", 100, 1)));
   ASSERT_TRUE(ack.has_ack()) << ack.DebugString();
   const std::uint64_t pushed = ack.ack().applied_tick();
   // Frames until 2 s of sim time after the ack.
-  const double push_time = parse(delta->messages().back().data).pose_frame().sim_time();
+  const double push_time = parse_server_message(delta->messages().back().data).pose_frame().sim_time();
   ASSERT_TRUE(delta->wait([&](const std::vector<NatsMessage>& messages) {
-    return parse(messages.back().data).pose_frame().sim_time() >= push_time + 2;
+    return parse_server_message(messages.back().data).pose_frame().sim_time() >= push_time + 2;
   }));
   for (auto* collector : {quantized.get(), delta.get()}) {
     const std::vector<NatsMessage> messages = collector->messages();
     for (std::size_t i = 1; i < messages.size(); ++i) {
-      EXPECT_EQ(parse(messages[i].data).pose_frame().sequence(),
-                parse(messages[i - 1].data).pose_frame().sequence() + 1);
+      EXPECT_EQ(parse_server_message(messages[i].data).pose_frame().sequence(),
+                parse_server_message(messages[i - 1].data).pose_frame().sequence() + 1);
     }
   }
   // Key frames 1 s of sim time apart before the push, 0.25 s apart after it.
@@ -210,7 +208,7 @@ TEST_F(NatsWorld, FramesCarryConsecutiveSequencesAndDeltaKeyFramesComeAtTheRestI
   std::vector<double> moving_keys;
   std::size_t changes = 0;
   for (const NatsMessage& m : delta->messages()) {
-    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    const tumble::v1::PoseFrame frame = parse_server_message(m.data).pose_frame();
     EXPECT_EQ(frame.encoding(), tumble::v1::POSE_ENCODING_DELTA);
     if (!frame.key_frame()) {
       ++changes;
@@ -238,7 +236,7 @@ TEST_F(NatsWorld, AKeyRequestAnswersTheLatestFrameWholeWithItsSequence) {
   ASSERT_TRUE(delta && delta->wait_count(3));
   auto reply = client.request("tumble.v1.lab.key.d", "");
   ASSERT_TRUE(reply) << client.error();
-  const tumble::v1::PoseFrame key = parse(*reply).pose_frame();
+  const tumble::v1::PoseFrame key = parse_server_message(*reply).pose_frame();
   EXPECT_TRUE(key.key_frame());
   EXPECT_GT(key.sequence(), 1u);
   const auto poses = wire::decode_quantized_poses(key.packed());
@@ -247,7 +245,7 @@ TEST_F(NatsWorld, AKeyRequestAnswersTheLatestFrameWholeWithItsSequence) {
   // A change numbered sequence + 1 follows on the stream.
   EXPECT_TRUE(delta->wait([&](const std::vector<NatsMessage>& messages) {
     for (const NatsMessage& m : messages) {
-      if (parse(m.data).pose_frame().sequence() == key.sequence() + 1) return true;
+      if (parse_server_message(m.data).pose_frame().sequence() == key.sequence() + 1) return true;
     }
     return false;
   }));
@@ -277,28 +275,29 @@ TEST_F(NatsWorld, AStreamWithJointsCarriesTheirStateInEveryFrameAndInItsKeyAnswe
   // Every frame, key or change, has the hinge's state; the plank swings.
   double fastest = 0;
   for (const NatsMessage& m : with_joints->messages()) {
-    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    const tumble::v1::PoseFrame frame = parse_server_message(m.data).pose_frame();
     ASSERT_EQ(frame.joint_ids_size(), 1) << "sequence " << frame.sequence();
     EXPECT_EQ(frame.joint_ids(0), 0u);
     ASSERT_EQ(frame.joint_speeds_size(), 1);
     fastest = std::max(fastest, static_cast<double>(std::abs(frame.joint_speeds(0))));
   }
   EXPECT_GT(fastest, 0.1);
-  for (const NatsMessage& m : without->messages()) EXPECT_EQ(parse(m.data).pose_frame().joint_ids_size(), 0);
+  for (const NatsMessage& m : without->messages())
+    EXPECT_EQ(parse_server_message(m.data).pose_frame().joint_ids_size(), 0);
 
   // The key answer is the latest frame whole: its joints are that frame's.
   auto reply = client.request("tumble.v1.lab.key.dj", "");
   ASSERT_TRUE(reply) << client.error();
-  const tumble::v1::PoseFrame key = parse(*reply).pose_frame();
+  const tumble::v1::PoseFrame key = parse_server_message(*reply).pose_frame();
   ASSERT_EQ(key.joint_ids_size(), 1);
   ASSERT_TRUE(with_joints->wait([&](const std::vector<NatsMessage>& messages) {
     for (const NatsMessage& m : messages) {
-      if (parse(m.data).pose_frame().sequence() == key.sequence()) return true;
+      if (parse_server_message(m.data).pose_frame().sequence() == key.sequence()) return true;
     }
     return false;
   }));
   for (const NatsMessage& m : with_joints->messages()) {
-    const tumble::v1::PoseFrame frame = parse(m.data).pose_frame();
+    const tumble::v1::PoseFrame frame = parse_server_message(m.data).pose_frame();
     if (frame.sequence() != key.sequence()) continue;
     EXPECT_EQ(frame.tick(), key.tick());
     EXPECT_EQ(frame.joint_positions(0), key.joint_positions(0));
@@ -313,18 +312,19 @@ TEST_F(NatsWorld, QueryAnswersReadsAsAnObserverAndRefusesCommandsChangingNothing
   ClientMessage hello;
   hello.set_request_id(1);
   hello.mutable_hello()->set_protocol_version(tumble::v1::PROTOCOL_VERSION_CURRENT);
-  const ServerMessage welcome = parse(*client.request("tumble.v1.lab.query", hello.SerializeAsString()));
+  const ServerMessage welcome = parse_server_message(*client.request("tumble.v1.lab.query", hello.SerializeAsString()));
   ASSERT_TRUE(welcome.has_welcome()) << welcome.DebugString();
   EXPECT_EQ(welcome.welcome().role(), tumble::v1::ROLE_OBSERVER);
 
   ClientMessage list;
   list.set_request_id(2);
   list.mutable_list_bodies();
-  const ServerMessage bodies = parse(*client.request("tumble.v1.lab.query", list.SerializeAsString()));
+  const ServerMessage bodies = parse_server_message(*client.request("tumble.v1.lab.query", list.SerializeAsString()));
   ASSERT_EQ(bodies.body_list().bodies_size(), 2) << bodies.DebugString();
   EXPECT_EQ(bodies.body_list().bodies(0).name(), "crate");
 
-  const ServerMessage refused = parse(*client.request("tumble.v1.lab.query", force_request("crate", 240, 3)));
+  const ServerMessage refused =
+      parse_server_message(*client.request("tumble.v1.lab.query", force_request("crate", 240, 3)));
   ASSERT_TRUE(refused.has_error()) << refused.DebugString();
   EXPECT_EQ(refused.error().request_id(), 3u);
   EXPECT_EQ(refused.error().code(), tumble::v1::PERMISSION_DENIED);
@@ -332,7 +332,7 @@ TEST_F(NatsWorld, QueryAnswersReadsAsAnObserverAndRefusesCommandsChangingNothing
   // Nothing moved: a frame after the refusal shows both bodies at rest.
   auto frames = client.subscribe("tumble.v1.lab.poses.f");
   ASSERT_TRUE(frames && frames->wait_count(2));
-  const tumble::v1::PoseFrame frame = parse(frames->messages()[1].data).pose_frame();
+  const tumble::v1::PoseFrame frame = parse_server_message(frames->messages()[1].data).pose_frame();
   ASSERT_EQ(frame.linear_velocities_size(), 6);
   for (int i = 0; i < frame.linear_velocities_size(); ++i) EXPECT_EQ(frame.linear_velocities(i), 0.0f);
 }
@@ -359,7 +359,7 @@ TEST(NatsWorldStart, TumbledStartedWhileNatsIsDownServesTcpAndConnectsLater) {
   NatsTestClient client(nats.url());
   EXPECT_TRUE(poll_until([&] {
     auto reply = client.request("tumble.v1.late.rpc", stats_request(1), std::chrono::milliseconds(500));
-    return reply && parse(*reply).stats().nats().connected();
+    return reply && parse_server_message(*reply).stats().nats().connected();
   })) << tumbled.log();
   EXPECT_NE(tumbled.log().find("NATS link up"), std::string::npos);
 }
@@ -394,7 +394,7 @@ TEST(NatsWorldStart, WithListenNoneTheWorldIsServedOverNatsAlone) {
     reply = client.request("tumble.v1.solo.rpc", stats_request(2), std::chrono::milliseconds(500));
     return reply.has_value();
   })) << read_file(dir + "/tumbled.log");
-  EXPECT_TRUE(parse(*reply).stats().nats().connected());
+  EXPECT_TRUE(parse_server_message(*reply).stats().nats().connected());
   const std::string log = read_file(dir + "/tumbled.log");
   EXPECT_EQ(log.find("listening on"), std::string::npos) << "no TCP or HTTP listener: " << log;
   // SIGTERM ends it cleanly, as with listeners.
@@ -428,13 +428,14 @@ TEST(NatsWorldPayload, AFrameOverTheServersMaxPayloadIsNotPublishedAndTheOtherSt
   // The small stream's frames are consecutive: the refused ones cost it nothing.
   const std::vector<NatsMessage> frames = small->messages();
   for (std::size_t i = 1; i < frames.size(); ++i) {
-    EXPECT_EQ(parse(frames[i].data).pose_frame().sequence(), parse(frames[i - 1].data).pose_frame().sequence() + 1);
+    EXPECT_EQ(parse_server_message(frames[i].data).pose_frame().sequence(),
+              parse_server_message(frames[i - 1].data).pose_frame().sequence() + 1);
   }
-  const auto poses = wire::decode_quantized_poses(parse(frames.back().data).pose_frame().packed());
+  const auto poses = wire::decode_quantized_poses(parse_server_message(frames.back().data).pose_frame().packed());
   ASSERT_TRUE(poses);
   EXPECT_EQ(poses->bodies.size(), 60u);
   EXPECT_TRUE(big->messages().empty()) << "no frame over 2048 bytes reaches NATS";
-  const ServerMessage stats = parse(*client.request("tumble.v1.lab.rpc", stats_request(4)));
+  const ServerMessage stats = parse_server_message(*client.request("tumble.v1.lab.rpc", stats_request(4)));
   EXPECT_GT(stats.stats().nats().frames_dropped(), 0u);
   EXPECT_TRUE(poll_until([&] {
     return tumbled.log().find("over the server's max payload of 2048") != std::string::npos;

@@ -18,20 +18,6 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
-ClientMessage spawn(std::uint64_t id, const std::string& name) {
-  ClientMessage m;
-  m.set_request_id(id);
-  auto* body = m.mutable_spawn_body()->mutable_body();
-  body->set_name(name);
-  body->mutable_shape()->mutable_sphere()->set_radius(0.5);
-  body->set_mass(1);
-  body->mutable_position()->set_y(10);
-  return m;
-}
-
 // Sends `request` and returns its reply (an Error or whatever answers it).
 ServerMessage reply_to(RawClient& client, const ClientMessage& request) {
   EXPECT_TRUE(client.send(request));
@@ -41,12 +27,12 @@ ServerMessage reply_to(RawClient& client, const ClientMessage& request) {
 }
 
 TEST(ClientText, AMillionByteBodyNameIsRefusedWithTheLimit) {
-  TestServer server(kScene);
+  TestServer server(kCrateScene);
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
 
   const std::string huge(1000000, 'n');
-  ServerMessage reply = reply_to(client, spawn(2, huge));
+  ServerMessage reply = reply_to(client, spawn_sphere(2, huge));
   ASSERT_TRUE(reply.has_error()) << reply.ShortDebugString().substr(0, 200);
   EXPECT_EQ(reply.error().code(), tumble::v1::INVALID_ARGUMENT);
   EXPECT_EQ(reply.error().message(), "body.name: 1000000 bytes, over the limit of 128 bytes");
@@ -62,24 +48,24 @@ TEST(ClientText, AMillionByteBodyNameIsRefusedWithTheLimit) {
   reply = reply_to(client, list_bodies(4));
   ASSERT_TRUE(reply.has_body_list());
   EXPECT_EQ(reply.body_list().bodies_size(), 1);
-  reply = reply_to(client, spawn(5, std::string(128, 'n')));
+  reply = reply_to(client, spawn_sphere(5, std::string(128, 'n')));
   EXPECT_TRUE(reply.has_ack()) << reply.ShortDebugString();
 }
 
 TEST(ClientText, ANameOfDigitsOnlyIsRefusedBecauseItReadsAsAnId) {
-  TestServer server(kScene);
+  TestServer server(kCrateScene);
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
-  ServerMessage reply = reply_to(client, spawn(2, "123"));
+  ServerMessage reply = reply_to(client, spawn_sphere(2, "123"));
   ASSERT_TRUE(reply.has_error());
   EXPECT_EQ(reply.error().code(), tumble::v1::INVALID_ARGUMENT);
   EXPECT_EQ(reply.error().message(),
             "body.name: '123' is digits only, which clients read as a body id; a name needs another character");
-  EXPECT_TRUE(reply_to(client, spawn(3, "rock-123")).has_ack());
+  EXPECT_TRUE(reply_to(client, spawn_sphere(3, "rock-123")).has_ack());
 }
 
 TEST(ClientText, HelloStringsPastTheirLimitsEndTheHandshake) {
-  TestServer server(kScene);
+  TestServer server(kCrateScene);
   {
     RawClient client(server.port());
     const auto reply = client.handshake(std::string(1000000, 'c'));

@@ -18,6 +18,7 @@
 #include "clock_requests.h"
 #include "raw_client.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 
 namespace tumble::test {
@@ -25,10 +26,6 @@ namespace {
 
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
 
 // A's Step: the most a Step may ask for, so it is still under way for
 // B's request (seconds of stepping, against milliseconds of round trips).
@@ -138,7 +135,7 @@ class ClockSessionsTest : public ::testing::TestWithParam<Pair> {};
 
 TEST_P(ClockSessionsTest, EachIsAnsweredOnceAndAPausedTickStays) {
   const auto [first, second] = GetParam();
-  TestServer server(kScene);
+  TestServer server(kCrateAndBallScene);
   Session a(server.port());
   Session b(server.port());
   std::uint64_t b_id = 100;  // B's next request id
@@ -273,7 +270,7 @@ INSTANTIATE_TEST_SUITE_P(EveryOrderedPair, ClockSessionsTest, ::testing::Combine
 // A pauses, steps a million ticks and goes away. B's Resume and Pause are
 // answered, the world stays paused, and B's own Step runs.
 TEST(ClockSessions, AStepWhoseSessionIsGoneBreaksNothing) {
-  TestServer server(kScene);
+  TestServer server(kCrateAndBallScene);
   Session b(server.port());
   std::uint64_t b_id = 100;
   std::uint64_t t0 = 0;

@@ -10,6 +10,7 @@
 #include "raw_client.h"
 #include "replies.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 #include "wire/frame.h"
 
@@ -19,21 +20,6 @@ namespace {
 using namespace std::chrono_literals;
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
-
-ClientMessage spawn(std::uint64_t id, const std::string& name, double radius) {
-  ClientMessage m;
-  m.set_request_id(id);
-  auto* body = m.mutable_spawn_body()->mutable_body();
-  body->set_name(name);
-  body->mutable_shape()->mutable_sphere()->set_radius(radius);
-  body->set_mass(1);
-  body->mutable_position()->set_y(10);
-  return m;
-}
 
 ClientMessage empty_request(std::uint64_t id, void (*kind)(ClientMessage&)) {
   ClientMessage m;
@@ -55,9 +41,9 @@ ClientMessage step(std::uint64_t id, std::uint32_t ticks) {
   return m;
 }
 
-ClientMessage subscribe(std::uint64_t id, double rate_hz, tumble::v1::PoseFields fields,
-                        std::initializer_list<tumble::v1::WorldEventKind> events = {},
-                        std::initializer_list<const char*> bodies = {}) {
+ClientMessage subscribe_to_fields(std::uint64_t id, double rate_hz, tumble::v1::PoseFields fields,
+                                  std::initializer_list<tumble::v1::WorldEventKind> events = {},
+                                  std::initializer_list<const char*> bodies = {}) {
   ClientMessage m;
   m.set_request_id(id);
   m.mutable_subscribe()->set_rate_hz(rate_hz);
@@ -84,13 +70,13 @@ class ControlProtocolTest : public ::testing::Test {
     return reply.value_or(ServerMessage{});
   }
 
-  TestServer server_{kScene};
+  TestServer server_{kCrateAndBallScene};
   RawClient client_{server_.port()};
   std::vector<tumble::v1::WorldEvent> events_;
 };
 
 TEST_F(ControlProtocolTest, SpawnIsAckedWithTheNewBodysId) {
-  const ServerMessage reply = call(spawn(1, "rock", 0.25));
+  const ServerMessage reply = call(spawn_sphere(1, "rock", 0.25));
   ASSERT_TRUE(reply.has_ack()) << reply.DebugString();
   ASSERT_TRUE(reply.ack().has_body_id());
   EXPECT_EQ(reply.ack().body_id(), 2u);
@@ -109,10 +95,10 @@ TEST_F(ControlProtocolTest, SpawnIsAckedWithTheNewBodysId) {
 // A kinematic body standing still has no velocity and no mass either, like
 // a static one: only the motion tells them apart.
 TEST_F(ControlProtocolTest, TheBodyListSaysHowEachBodyMoves) {
-  ClientMessage wall = spawn(1, "wall", 0.5);
+  ClientMessage wall = spawn_sphere(1, "wall", 0.5);
   wall.mutable_spawn_body()->mutable_body()->set_motion(tumble::v1::MOTION_STATIC);
   ASSERT_TRUE(call(wall).has_ack());
-  ClientMessage lift = spawn(2, "lift", 0.5);
+  ClientMessage lift = spawn_sphere(2, "lift", 0.5);
   lift.mutable_spawn_body()->mutable_body()->set_motion(tumble::v1::MOTION_KINEMATIC);
   ASSERT_TRUE(call(lift).has_ack());
 
@@ -131,15 +117,15 @@ TEST_F(ControlProtocolTest, TheBodyListSaysHowEachBodyMoves) {
 }
 
 TEST_F(ControlProtocolTest, ABadSpawnGetsInvalidArgumentAndTheSessionGoesOn) {
-  const ServerMessage negative = call(spawn(1, "rock", -1));
+  const ServerMessage negative = call(spawn_sphere(1, "rock", -1));
   ASSERT_TRUE(negative.has_error());
   EXPECT_EQ(negative.error().code(), tumble::v1::INVALID_ARGUMENT);
   EXPECT_NE(negative.error().message().find("body.shape.sphere.radius"), std::string::npos)
       << negative.error().message();
-  const ServerMessage duplicate = call(spawn(2, "ball", 1));
+  const ServerMessage duplicate = call(spawn_sphere(2, "ball", 1));
   ASSERT_TRUE(duplicate.has_error());
   EXPECT_EQ(duplicate.error().code(), tumble::v1::INVALID_ARGUMENT);
-  EXPECT_TRUE(call(spawn(3, "rock", 1)).has_ack());
+  EXPECT_TRUE(call(spawn_sphere(3, "rock", 1)).has_ack());
 }
 
 TEST_F(ControlProtocolTest, RemoveAndSetAreAcked) {
@@ -196,7 +182,7 @@ TEST_F(ControlProtocolTest, StatsCountTheClientsAndTheBytesSent) {
 }
 
 TEST_F(ControlProtocolTest, PoseOnlyFramesCarryNoVelocities) {
-  ASSERT_TRUE(call(subscribe(1, 60, tumble::v1::POSE_FIELDS_POSE)).has_subscribed());
+  ASSERT_TRUE(call(subscribe_to_fields(1, 60, tumble::v1::POSE_FIELDS_POSE)).has_subscribed());
   const auto frame = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
   ASSERT_TRUE(frame);
   EXPECT_EQ(frame->pose_frame().ids_size(), 2);
@@ -205,7 +191,7 @@ TEST_F(ControlProtocolTest, PoseOnlyFramesCarryNoVelocities) {
   EXPECT_EQ(frame->pose_frame().linear_velocities_size(), 0);
   EXPECT_EQ(frame->pose_frame().angular_velocities_size(), 0);
 
-  ASSERT_TRUE(call(subscribe(2, 60, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY)).has_subscribed());
+  ASSERT_TRUE(call(subscribe_to_fields(2, 60, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY)).has_subscribed());
   const auto full = client_.read_until(
       [](const ServerMessage& m) { return m.has_pose_frame() && m.pose_frame().linear_velocities_size() > 0; });
   ASSERT_TRUE(full) << "the default, pose and velocity, has velocities";
@@ -214,7 +200,7 @@ TEST_F(ControlProtocolTest, PoseOnlyFramesCarryNoVelocities) {
 
 TEST_F(ControlProtocolTest, ASubscriptionWhilePausedGetsTheCurrentStateAndThenNothing) {
   const std::uint64_t at = call(pause(1)).ack().applied_tick();
-  const ServerMessage subscribed = call(subscribe(2, 240, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY));
+  const ServerMessage subscribed = call(subscribe_to_fields(2, 240, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY));
   ASSERT_TRUE(subscribed.has_subscribed());
   const auto first = client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); });
   ASSERT_TRUE(first) << "the current state at once, paused or not";
@@ -236,7 +222,7 @@ TEST_F(ControlProtocolTest, ASubscriptionWhilePausedGetsTheCurrentStateAndThenNo
 
 TEST_F(ControlProtocolTest, AnEditWhilePausedReachesSubscribersAtOnce) {
   const std::uint64_t at = call(pause(1)).ack().applied_tick();
-  ASSERT_TRUE(call(subscribe(2, 30, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"})).has_subscribed());
+  ASSERT_TRUE(call(subscribe_to_fields(2, 30, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"})).has_subscribed());
   ASSERT_TRUE(client_.read_until([](const ServerMessage& m) { return m.has_pose_frame(); }));
   ClientMessage set;
   set.set_request_id(3);
@@ -251,11 +237,11 @@ TEST_F(ControlProtocolTest, AnEditWhilePausedReachesSubscribersAtOnce) {
 
 TEST_F(ControlProtocolTest, SubscribersHearOfSpawnsAndRemovalsBeforeTheFrame) {
   const ServerMessage subscribed =
-      call(subscribe(1, 30, tumble::v1::POSE_FIELDS_POSE,
-                     {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED}));
+      call(subscribe_to_fields(1, 30, tumble::v1::POSE_FIELDS_POSE,
+                               {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED}));
   ASSERT_TRUE(subscribed.has_subscribed());
   const std::uint32_t subscription = subscribed.subscribed().subscription_id();
-  ASSERT_TRUE(client_.send(spawn(2, "rock", 0.5)));
+  ASSERT_TRUE(client_.send(spawn_sphere(2, "rock", 0.5)));
   std::uint64_t applied = 0;
   std::uint64_t event_tick = 0;
   bool frame_with_rock = false;
@@ -291,12 +277,12 @@ TEST_F(ControlProtocolTest, SubscribersHearOfSpawnsAndRemovalsBeforeTheFrame) {
 }
 
 TEST_F(ControlProtocolTest, ANamedSubscriptionHearsOnlyOfItsBodiesAndOfResets) {
-  const ServerMessage subscribed = call(subscribe(
+  const ServerMessage subscribed = call(subscribe_to_fields(
       1, 30, tumble::v1::POSE_FIELDS_POSE,
       {tumble::v1::WORLD_EVENT_BODY_SPAWNED, tumble::v1::WORLD_EVENT_BODY_REMOVED, tumble::v1::WORLD_EVENT_WORLD_RESET},
       {"ball"}));
   ASSERT_TRUE(subscribed.has_subscribed());
-  ASSERT_TRUE(call(spawn(2, "rock", 0.5)).has_ack());
+  ASSERT_TRUE(call(spawn_sphere(2, "rock", 0.5)).has_ack());
   ClientMessage remove;
   remove.set_request_id(3);
   remove.mutable_remove_body()->mutable_body()->set_name("ball");
@@ -323,7 +309,7 @@ TEST_F(ControlProtocolTest, ANamedSubscriptionHearsOnlyOfItsBodiesAndOfResets) {
 }
 
 TEST_F(ControlProtocolTest, AnUnknownEventKindIsInvalid) {
-  ClientMessage m = subscribe(1, 30, tumble::v1::POSE_FIELDS_POSE);
+  ClientMessage m = subscribe_to_fields(1, 30, tumble::v1::POSE_FIELDS_POSE);
   m.mutable_subscribe()->add_events(static_cast<tumble::v1::WorldEventKind>(99));
   const ServerMessage reply = call(m);
   ASSERT_TRUE(reply.has_error());
@@ -333,8 +319,8 @@ TEST_F(ControlProtocolTest, AnUnknownEventKindIsInvalid) {
 TEST_F(ControlProtocolTest, AStreamOfFewerBodiesIsSentFirstInItsTick) {
   // Publisher order: cheapest stream first, whatever order they were made in.
   const std::uint64_t at = call(pause(1)).ack().applied_tick();
-  const ServerMessage all = call(subscribe(2, 240, tumble::v1::POSE_FIELDS_POSE));
-  const ServerMessage ball = call(subscribe(3, 240, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"}));
+  const ServerMessage all = call(subscribe_to_fields(2, 240, tumble::v1::POSE_FIELDS_POSE));
+  const ServerMessage ball = call(subscribe_to_fields(3, 240, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"}));
   ASSERT_TRUE(all.has_subscribed() && ball.has_subscribed());
   // The frames of the stepped tick may come before the Step's Ack or after
   // it: a publication already queued on the I/O thread carries the newest
@@ -364,7 +350,7 @@ TEST_F(ControlProtocolTest, TheTickRateChangesForSubscriptionsMadeAfter) {
   rate.mutable_set_tick_rate()->set_rate_hz(120);
   ASSERT_TRUE(call(rate).has_ack());
   EXPECT_DOUBLE_EQ(call(get_stats(2)).stats().tick_rate_hz(), 120);
-  const ServerMessage subscribed = call(subscribe(3, 30, tumble::v1::POSE_FIELDS_POSE));
+  const ServerMessage subscribed = call(subscribe_to_fields(3, 30, tumble::v1::POSE_FIELDS_POSE));
   EXPECT_EQ(subscribed.subscribed().period_ticks(), 4u);
   EXPECT_DOUBLE_EQ(subscribed.subscribed().rate_hz(), 30);
   RawClient late(server_.port());

@@ -8,6 +8,7 @@
 #include "http_client.h"
 #include "process.h"
 #include "raw_client.h"
+#include "test_scenes.h"
 #include "test_server.h"
 #include "web/embedded_files.h"
 
@@ -15,15 +16,6 @@ namespace tumble::test {
 namespace {
 
 namespace http = boost::beast::http;
-
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
-net::ServerConfig with_http() {
-  net::ServerConfig config;
-  config.serve_http = true;
-  return config;
-}
 
 // A file of web/dist as it is in the source tree.
 std::string dist_file(const std::string& path) { return read_file(std::string(TUMBLE_WEB_DIST) + "/" + path); }
@@ -36,7 +28,7 @@ void ExpectCommonHeaders(const HttpResponse& response) {
 
 class HttpEndpointTest : public ::testing::Test {
  protected:
-  TestServer server_{kScene, 240, with_http()};
+  TestServer server_{kCrateScene, 240, with_http()};
 };
 
 TEST_F(HttpEndpointTest, RootServesIndexHtmlExactly) {
@@ -268,7 +260,7 @@ TEST_F(HttpEndpointTest, AHostNotAllowedIs421ForPagesAndWebSockets) {
 TEST(HttpEndpoint, AllowedHostsReplaceTheDefaults) {
   net::ServerConfig config = with_http();
   config.http_limits.allowed_hosts = {"viewer.example", "lab.example:9000"};
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateScene, 240, config);
   const auto status_for = [&](const std::string& host) {
     HttpClient client(server.http_port());
     client.send_bytes("GET / HTTP/1.1\r\nHost: " + host + "\r\n\r\n");
@@ -285,7 +277,7 @@ TEST(HttpEndpoint, AllowedHostsReplaceTheDefaults) {
 TEST(HttpEndpoint, AHeaderThatDoesNotArriveInTimeIs408AndAnIdleConnectionIsClosed) {
   net::ServerConfig config = with_http();
   config.http_limits.header_timeout = std::chrono::milliseconds(300);
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateScene, 240, config);
 
   HttpClient slow(server.http_port());
   ASSERT_TRUE(slow.send_bytes("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n"));  // no blank line: never ends
@@ -313,7 +305,7 @@ TEST(HttpEndpoint, HttpConnectionsHaveALimitOfTheirOwn) {
   net::ServerConfig config = with_http();
   config.http_limits.max_connections = 2;
   config.max_connections = 4;
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateScene, 240, config);
 
   HttpClient first(server.http_port());
   HttpClient second(server.http_port());
@@ -344,7 +336,7 @@ TEST(HttpEndpoint, HttpConnectionsHaveALimitOfTheirOwn) {
 }
 
 TEST(HttpEndpoint, IsOffUnlessAskedFor) {
-  TestServer server(kScene);
+  TestServer server(kCrateScene);
   EXPECT_EQ(server.http_port(), 0);
 }
 

@@ -32,8 +32,8 @@ std::string grid_scene(bool with_mover) {
   return scene + "]}";
 }
 
-ClientMessage subscribe(std::uint64_t id, tumble::v1::PoseEncoding encoding, tumble::v1::PoseFields fields,
-                        double rate_hz = 30) {
+ClientMessage subscribe_encoded(std::uint64_t id, tumble::v1::PoseEncoding encoding, tumble::v1::PoseFields fields,
+                                double rate_hz = 30) {
   ClientMessage m;
   m.set_request_id(id);
   m.mutable_subscribe()->set_rate_hz(rate_hz);
@@ -68,7 +68,7 @@ TEST(PoseEncoding, QuantizedPoseOnlyFramesTakeAtMostTenBytesPerBody) {
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
   const auto reply =
-      subscribed(client, subscribe(1, tumble::v1::POSE_ENCODING_QUANTIZED, tumble::v1::POSE_FIELDS_POSE));
+      subscribed(client, subscribe_encoded(1, tumble::v1::POSE_ENCODING_QUANTIZED, tumble::v1::POSE_FIELDS_POSE));
   EXPECT_EQ(reply.encoding(), tumble::v1::POSE_ENCODING_QUANTIZED);
   EXPECT_DOUBLE_EQ(reply.position_step(), 1.0 / 1024);
   for (int i = 0; i < 3; ++i) {
@@ -101,10 +101,10 @@ TEST(PoseEncoding, QuantizedFramesMatchFullFramesWithVelocities) {
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
   // Every tick, both encodings: frames of the same tick can be compared.
-  const auto full =
-      subscribed(client, subscribe(1, tumble::v1::POSE_ENCODING_FULL, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
+  const auto full = subscribed(
+      client, subscribe_encoded(1, tumble::v1::POSE_ENCODING_FULL, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
   const auto quantized = subscribed(
-      client, subscribe(2, tumble::v1::POSE_ENCODING_QUANTIZED, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
+      client, subscribe_encoded(2, tumble::v1::POSE_ENCODING_QUANTIZED, tumble::v1::POSE_FIELDS_POSE_AND_VELOCITY, 10));
   ASSERT_NE(full.subscription_id(), quantized.subscription_id());
   std::map<std::uint64_t, tumble::v1::PoseFrame> full_frames;
   std::map<std::uint64_t, tumble::v1::PoseFrame> quantized_frames;
@@ -142,7 +142,8 @@ TEST(PoseEncoding, DeltaSendsAKeyFrameThenOnlyTheBodiesThatMove) {
   TestServer server(grid_scene(true));
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
-  const auto reply = subscribed(client, subscribe(1, tumble::v1::POSE_ENCODING_DELTA, tumble::v1::POSE_FIELDS_POSE));
+  const auto reply =
+      subscribed(client, subscribe_encoded(1, tumble::v1::POSE_ENCODING_DELTA, tumble::v1::POSE_FIELDS_POSE));
   EXPECT_EQ(reply.encoding(), tumble::v1::POSE_ENCODING_DELTA);
   const auto key = next_frame(client);
   ASSERT_TRUE(key);
@@ -165,7 +166,8 @@ TEST(PoseEncoding, DeltaOfAnIdleWorldSendsNoBodyDataAfterTheKeyFrame) {
   TestServer server(grid_scene(false));
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
-  const auto reply = subscribed(client, subscribe(1, tumble::v1::POSE_ENCODING_DELTA, tumble::v1::POSE_FIELDS_POSE));
+  const auto reply =
+      subscribed(client, subscribe_encoded(1, tumble::v1::POSE_ENCODING_DELTA, tumble::v1::POSE_FIELDS_POSE));
   const auto key = next_frame(client);
   ASSERT_TRUE(key && key->key_frame());
   EXPECT_LE(wire_bytes(*key) / 901, 10.0);
@@ -200,7 +202,8 @@ TEST(PoseEncoding, DeltaReportsRemovedBodiesAndKeyFramesNeedASubscription) {
   TestServer server(grid_scene(false));
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
-  const auto reply = subscribed(client, subscribe(1, tumble::v1::POSE_ENCODING_DELTA, tumble::v1::POSE_FIELDS_POSE));
+  const auto reply =
+      subscribed(client, subscribe_encoded(1, tumble::v1::POSE_ENCODING_DELTA, tumble::v1::POSE_FIELDS_POSE));
   ASSERT_TRUE(next_frame(client));
 
   ClientMessage remove;

@@ -26,13 +26,9 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
-
 class ProtocolTest : public ::testing::Test {
  protected:
-  TestServer server_{kScene};
+  TestServer server_{kCrateAndBallScene};
 };
 
 TEST_F(ProtocolTest, HelloIsAnsweredByWelcome) {

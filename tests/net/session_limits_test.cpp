@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "raw_client.h"
+#include "replies.h"
 #include "requests.h"
 #include "test_scenes.h"
 #include "test_server.h"
@@ -17,14 +18,6 @@ namespace {
 using std::chrono::milliseconds;
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
-bool is_reply_to(const ServerMessage& m, std::uint64_t id) {
-  return (m.has_error() && m.error().request_id() == id) || (m.has_body_list() && m.body_list().request_id() == id) ||
-         (m.has_stats() && m.stats().request_id() == id);
-}
 
 // The server's Stats, asked for by a fresh client.
 tumble::v1::Stats stats_of(std::uint16_t port) {
@@ -50,7 +43,7 @@ void ExpectServing(std::uint16_t port) {
 TEST(SessionLimits, AClientThatNeverSaysHelloIsCutOff) {
   net::SessionLimits limits;
   limits.handshake_timeout = milliseconds(300);
-  TestServer server(kScene, 240, limits);
+  TestServer server(kCrateScene, 240, limits);
 
   RawClient silent(server.port());
   ASSERT_TRUE(silent.connected());
@@ -65,7 +58,7 @@ TEST(SessionLimits, AClientThatNeverSaysHelloIsCutOff) {
 TEST(SessionLimits, HalfAHelloIsNoHello) {
   net::SessionLimits limits;
   limits.handshake_timeout = milliseconds(300);
-  TestServer server(kScene, 240, limits);
+  TestServer server(kCrateScene, 240, limits);
 
   RawClient slow(server.port());
   ASSERT_TRUE(slow.send_bytes("\x20partial"));  // announces 32 bytes, sends 7
@@ -78,7 +71,7 @@ TEST(SessionLimits, HalfAHelloIsNoHello) {
 TEST(SessionLimits, AGreetedClientOutlivesTheHandshakeTimeout) {
   net::SessionLimits limits;
   limits.handshake_timeout = milliseconds(1000);
-  TestServer server(kScene, 240, limits);
+  TestServer server(kCrateScene, 240, limits);
 
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
@@ -98,7 +91,7 @@ TEST(SessionLimits, RequestsOverTheRateAreRefusedAndTheClientRecovers) {
   net::SessionLimits limits;
   limits.commands_per_second = 5;
   limits.command_burst = 5;
-  TestServer server(kScene, 240, limits);
+  TestServer server(kCrateScene, 240, limits);
 
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());  // Hello is not a request: the burst is whole
@@ -190,7 +183,7 @@ TEST(SessionLimits, AClientThatLetsRepliesPileUpIsDisconnected) {
 // UNKNOWN_MESSAGE) draws the error budget's burst of Errors, then one
 // RESOURCE_EXHAUSTED that says why, and a close: not a reply per byte.
 TEST(SessionLimits, AHundredThousandZeroBytesDrawAFewErrorsThenAClose) {
-  TestServer server(kScene, 240);  // the default budget: 100 Errors a second
+  TestServer server(kCrateScene, 240);  // the default budget: 100 Errors a second
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
   ASSERT_TRUE(client.send_bytes(std::string(100000, '\0')));
@@ -221,7 +214,7 @@ TEST(SessionLimits, ErrorsFromTheWorldCountAgainstTheBudget) {
   net::SessionLimits limits;
   limits.errors_per_second = 5;
   limits.error_burst = 5;
-  TestServer server(kScene, 240, limits);
+  TestServer server(kCrateScene, 240, limits);
   RawClient client(server.port());
   ASSERT_TRUE(client.handshake());
   std::string pushes;
@@ -248,7 +241,7 @@ TEST(SessionLimits, ErrorsFromTheWorldCountAgainstTheBudget) {
 TEST(SessionLimits, AFrameThatStallsMidwayIsCutOffAndAnIdleClientIsNot) {
   net::SessionLimits limits;
   limits.frame_timeout = milliseconds(300);
-  TestServer server(kScene, 240, limits);
+  TestServer server(kCrateScene, 240, limits);
 
   RawClient idle(server.port());
   ASSERT_TRUE(idle.handshake());
@@ -275,7 +268,7 @@ TEST(SessionLimits, AFrameThatStallsMidwayIsCutOffAndAnIdleClientIsNot) {
 TEST(SessionLimits, EveryConnectionOverTheLimitIsToldWhy) {
   net::ServerConfig config;
   config.max_connections = 1;
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateScene, 240, config);
   RawClient member(server.port());
   ASSERT_TRUE(member.handshake());
 
@@ -301,7 +294,7 @@ TEST(SessionLimits, BeyondThePendingRefusalsAConnectionIsClosedAndCounted) {
   net::ServerConfig config;
   config.max_connections = 1;
   config.max_pending_refusals = 1;
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateScene, 240, config);
   RawClient member(server.port());
   ASSERT_TRUE(member.handshake());
 

@@ -13,6 +13,7 @@
 #include "raw_client.h"
 #include "replies.h"
 #include "requests.h"
+#include "test_scenes.h"
 #include "test_server.h"
 #include "wire/frame.h"
 #include "ws_client.h"
@@ -24,17 +25,6 @@ using std::chrono::milliseconds;
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 namespace websocket = boost::beast::websocket;
-
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
-    {"name": "ball", "shape": {"sphere": {"radius": 0.5}}, "mass": 1, "position": [3, 0, 0]}]})";
-
-net::ServerConfig with_http(net::SessionLimits limits = {}) {
-  net::ServerConfig config;
-  config.serve_http = true;
-  config.limits = limits;
-  return config;
-}
 
 bool is_frame(const ServerMessage& m) { return m.has_pose_frame(); }
 
@@ -55,7 +45,7 @@ bool clients_become(Client& client, std::uint32_t expected) {
 
 class WebSocketTest : public ::testing::Test {
  protected:
-  TestServer server_{kScene, 240, with_http()};
+  TestServer server_{kCrateAndBallScene, 240, with_http()};
 };
 
 TEST_F(WebSocketTest, HelloIsAnsweredByWelcome) {
@@ -313,7 +303,7 @@ TEST_F(WebSocketTest, AVanishingWebSocketSubscriberDoesNotDisturbATcpOne) {
 TEST(WebSocketAccess, AWrongTokenIsUnauthenticatedAndTheRightOneIsAController) {
   net::ServerConfig config = with_http();
   config.access.controller = "secret";
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateAndBallScene, 240, config);
 
   WsClient wrong(server.http_port());
   const auto refused = wrong.handshake("ws-test", "guess");
@@ -332,7 +322,7 @@ TEST(WebSocketAccess, AWrongTokenIsUnauthenticatedAndTheRightOneIsAController) {
 TEST(WebSocketLimits, WebSocketClientsCountTowardMaxConnections) {
   net::ServerConfig config = with_http();
   config.max_connections = 2;
-  TestServer server(kScene, 240, config);
+  TestServer server(kCrateAndBallScene, 240, config);
 
   RawClient tcp(server.port());
   ASSERT_TRUE(tcp.handshake());
@@ -363,7 +353,7 @@ TEST(WebSocketLimits, WebSocketClientsCountTowardMaxConnections) {
 TEST(WebSocketLimits, AWebSocketThatNeverSaysHelloIsCutOff) {
   net::SessionLimits limits;
   limits.handshake_timeout = milliseconds(300);
-  TestServer server(kScene, 240, with_http(limits));
+  TestServer server(kCrateAndBallScene, 240, with_http(limits));
   WsClient silent(server.http_port());
   ASSERT_TRUE(silent.connected());
   const auto reply = silent.read(std::chrono::seconds(20));
@@ -377,7 +367,7 @@ TEST(WebSocketLimits, RequestsOverTheRateAreRefused) {
   net::SessionLimits limits;
   limits.commands_per_second = 5;
   limits.command_burst = 5;
-  TestServer server(kScene, 240, with_http(limits));
+  TestServer server(kCrateAndBallScene, 240, with_http(limits));
   WsClient client(server.http_port());
   ASSERT_TRUE(client.handshake());
   std::string burst;

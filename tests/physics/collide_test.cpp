@@ -29,14 +29,14 @@ namespace {
 
 using testing::box_corners;
 using testing::box_surface_height;
+using testing::kContactMargin;
+using testing::kPi;
 using testing::pose;
 using testing::random_rotation;
 using testing::random_vector;
 using testing::rotation_about;
 
-constexpr double kMargin = 0.02;  // WorldSettings::contact_margin
 constexpr double kTol = 1e-12;
-constexpr double kPi = std::numbers::pi;
 
 void expect_vec_near(const Vec3& actual, const Vec3& expected, double tol, const std::string& what = "") {
   EXPECT_LT((actual - expected).norm(), tol)
@@ -61,7 +61,7 @@ TEST(CollideSphereTest, SphereSphereAlongCentreLine) {
   const Vec3 u = Vec3(2.0, -1.0, 2.0) / 3.0;
   const Vec3 cb = ca + 0.9 * u;
   Manifold m;
-  collide(sphere_shape(0.5), pose(ca), sphere_shape(0.6), pose(cb), kMargin, m);
+  collide(sphere_shape(0.5), pose(ca), sphere_shape(0.6), pose(cb), kContactMargin, m);
   ASSERT_EQ(m.point_count, 1);
   expect_vec_near(m.normal, u, kTol, "normal");
   EXPECT_NEAR(m.points[0].separation, -0.2, kTol);
@@ -94,7 +94,7 @@ TEST_P(SphereBoxTest, NormalDepthAndPoints) {
 
   // Sphere first: the normal runs from the sphere into the box.
   Manifold m;
-  collide(sphere_shape(c.radius), pose(centre), box_shape(half), box_pose, kMargin, m);
+  collide(sphere_shape(c.radius), pose(centre), box_shape(half), box_pose, kContactMargin, m);
   ASSERT_EQ(m.point_count, 1);
   expect_vec_near(m.normal, -outward, 1e-12, "normal");
   EXPECT_NEAR(m.points[0].separation, c.separation, 1e-12);
@@ -104,7 +104,7 @@ TEST_P(SphereBoxTest, NormalDepthAndPoints) {
 
   // Box first: the same contact seen from the box.
   Manifold flipped;
-  collide(box_shape(half), box_pose, sphere_shape(c.radius), pose(centre), kMargin, flipped);
+  collide(box_shape(half), box_pose, sphere_shape(c.radius), pose(centre), kContactMargin, flipped);
   ASSERT_EQ(flipped.point_count, 1);
   expect_vec_near(flipped.normal, outward, 1e-12, "flipped normal");
   EXPECT_NEAR(flipped.points[0].separation, c.separation, 1e-12);
@@ -138,7 +138,7 @@ TEST(CollideSphereTest, SphereCapsuleSideAndCap) {
   {
     const Vec3 centre(0.4, 0.7, 0.0);
     Manifold m;
-    collide(sphere_shape(0.5), pose(centre), capsule, capsule_pose, kMargin, m);
+    collide(sphere_shape(0.5), pose(centre), capsule, capsule_pose, kContactMargin, m);
     ASSERT_EQ(m.point_count, 1);
     expect_vec_near(m.normal, -Vec3::UnitY(), 1e-12, "side normal");
     EXPECT_NEAR(m.points[0].separation, 0.7 - 0.5 - 0.3, 1e-12);
@@ -150,7 +150,7 @@ TEST(CollideSphereTest, SphereCapsuleSideAndCap) {
   {
     const Vec3 centre(1.4, 0.3, 0.0);
     Manifold m;
-    collide(sphere_shape(0.3), pose(centre), capsule, capsule_pose, kMargin, m);
+    collide(sphere_shape(0.3), pose(centre), capsule, capsule_pose, kContactMargin, m);
     ASSERT_EQ(m.point_count, 1);
     const Vec3 towards_capsule = -Vec3(0.8, 0.6, 0.0);
     expect_vec_near(m.normal, towards_capsule, 1e-12, "cap normal");
@@ -172,7 +172,7 @@ TEST(CollideCapsuleTest, ParallelCapsulesGiveTwoPointsOverTheOverlap) {
   const Shape capsule = capsule_shape(0.3, 1.0);
   Manifold m;
   collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
-          capsule_along(Vec3(0.5, 0.5, 0.0), Vec3::UnitX()), kMargin, m);
+          capsule_along(Vec3(0.5, 0.5, 0.0), Vec3::UnitX()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 2);
   expect_vec_near(m.normal, Vec3::UnitY(), 1e-12, "normal");
   std::vector<double> xs;
@@ -191,7 +191,7 @@ TEST(CollideCapsuleTest, ParallelCapsulesGiveTwoPointsOverTheOverlap) {
   // Nearly parallel (0.01 rad apart, below the 0.05 sine threshold): still
   // two points, so a capsule lying on another does not rock.
   collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
-          capsule_along(Vec3(0.5, 0.5, 0.0), Vec3(std::cos(0.01), std::sin(0.01), 0.0)), kMargin, m);
+          capsule_along(Vec3(0.5, 0.5, 0.0), Vec3(std::cos(0.01), std::sin(0.01), 0.0)), kContactMargin, m);
   EXPECT_EQ(m.point_count, 2);
 }
 
@@ -201,7 +201,7 @@ TEST(CollideCapsuleTest, CrossedCapsulesGiveOnePoint) {
   const Shape capsule = capsule_shape(0.3, 1.0);
   Manifold m;
   collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
-          capsule_along(Vec3(0.2, 0.5, 0.1), Vec3::UnitZ()), kMargin, m);
+          capsule_along(Vec3(0.2, 0.5, 0.1), Vec3::UnitZ()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 1);
   expect_vec_near(m.normal, Vec3::UnitY(), 1e-12, "normal");
   EXPECT_NEAR(m.points[0].separation, 0.5 - 0.6, 1e-12);
@@ -216,7 +216,7 @@ TEST(CollideCapsuleTest, IntersectingCoresPushAlongTheCommonPerpendicular) {
   const Shape capsule = capsule_shape(0.3, 1.0);
   Manifold m;
   collide(capsule, capsule_along(Vec3::Zero(), Vec3::UnitX()), capsule,
-          capsule_along(Vec3(0.2, 0.0, 0.5), Vec3::UnitZ()), kMargin, m);
+          capsule_along(Vec3(0.2, 0.0, 0.5), Vec3::UnitZ()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 1);
   EXPECT_NEAR(std::abs(m.normal.y()), 1.0, 1e-12);
   EXPECT_NEAR(m.points[0].separation, -0.6, 1e-12);
@@ -230,7 +230,7 @@ TEST(CollideCapsuleTest, CapsuleLyingOnBoxFaceGivesTwoPoints) {
   const double d = 0.01;
   Manifold m;
   collide(capsule, capsule_along(Vec3(0.1, 0.5 + 0.25 - d, 0.2), Vec3::UnitX()), box_shape(Vec3(1.0, 0.5, 1.0)),
-          pose(Vec3::Zero()), kMargin, m);
+          pose(Vec3::Zero()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 2);
   expect_vec_near(m.normal, -Vec3::UnitY(), 1e-12, "normal");
   std::vector<double> xs;
@@ -247,7 +247,7 @@ TEST(CollideCapsuleTest, CapsuleLyingOnBoxFaceGivesTwoPoints) {
   // Sunk so far that the core is 0.05 inside the box (the separating axis
   // path): still pushed out through the top face, separation -(0.05 + r).
   collide(capsule, capsule_along(Vec3(0.1, 0.45, 0.2), Vec3::UnitX()), box_shape(Vec3(1.0, 0.5, 1.0)),
-          pose(Vec3::Zero()), kMargin, m);
+          pose(Vec3::Zero()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 2);
   expect_vec_near(m.normal, -Vec3::UnitY(), 1e-12, "normal, core inside");
   for (int k = 0; k < 2; ++k) EXPECT_NEAR(m.points[k].separation, -0.05 - 0.25, 1e-12);
@@ -263,7 +263,7 @@ TEST(CollidePlaneTest, FlatBoxGivesFourCornersAtDepth) {
   const double d = 0.01;
   const Transform box_pose = pose(Vec3(0.3, 0.25 - d, -0.2), rotation_about(Vec3::UnitY(), 0.7));
   Manifold m;
-  collide(box_shape(half), box_pose, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kMargin, m);
+  collide(box_shape(half), box_pose, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 4);
   expect_vec_near(m.normal, -Vec3::UnitY(), 1e-12, "normal");
   std::set<std::uint32_t> ids;
@@ -293,7 +293,7 @@ TEST(CollidePlaneTest, TiltedBoxGivesOnlyItsLowEdgeOrCorner) {
     const double centre_height = 0.5 * std::sin(theta) + 0.25 * std::cos(theta) - d;
     const Transform box_pose = pose(Vec3(0.0, centre_height, 0.0), rotation_about(Vec3::UnitZ(), theta));
     Manifold m;
-    collide(box_shape(half), box_pose, ground, pose(Vec3::Zero()), kMargin, m);
+    collide(box_shape(half), box_pose, ground, pose(Vec3::Zero()), kContactMargin, m);
     ASSERT_EQ(m.point_count, 2);
     for (int k = 0; k < 2; ++k) {
       EXPECT_NEAR(m.points[k].separation, -d, 1e-12);
@@ -310,7 +310,7 @@ TEST(CollidePlaneTest, TiltedBoxGivesOnlyItsLowEdgeOrCorner) {
     for (const Vec3& corner : box_corners(half)) lowest = std::min(lowest, turned.apply(corner).y());
     const Transform box_pose{Vec3(0.0, -lowest - d, 0.0), turned.rotation};
     Manifold m;
-    collide(box_shape(half), box_pose, ground, pose(Vec3::Zero()), kMargin, m);
+    collide(box_shape(half), box_pose, ground, pose(Vec3::Zero()), kContactMargin, m);
     ASSERT_EQ(m.point_count, 1);
     EXPECT_NEAR(m.points[0].separation, -d, 1e-12);
   }
@@ -330,7 +330,7 @@ TEST(CollidePlaneTest, PlaneBodyTransformPlacesThePlane) {
 
   // A sphere of radius 0.3 centred at x = 1.3 reaches 0.1 past the plane.
   Manifold m;
-  collide(sphere_shape(0.3), pose(Vec3(1.3, 4.0, -1.0)), plane, plane_pose, kMargin, m);
+  collide(sphere_shape(0.3), pose(Vec3(1.3, 4.0, -1.0)), plane, plane_pose, kContactMargin, m);
   ASSERT_EQ(m.point_count, 1);
   expect_vec_near(m.normal, Vec3::UnitX(), 1e-12, "normal");
   EXPECT_NEAR(m.points[0].separation, -0.1, 1e-12);
@@ -341,7 +341,7 @@ TEST(CollidePlaneTest, CapsuleLyingFlatGivesBothEnds) {
   const double d = 0.02 / 4;
   Manifold m;
   collide(capsule_shape(0.25, 0.5), capsule_along(Vec3(0.0, 0.25 - d, 0.0), Vec3(1.0, 0.0, 1.0).normalized()),
-          plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kMargin, m);
+          plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kContactMargin, m);
   ASSERT_EQ(m.point_count, 2);
   for (int k = 0; k < 2; ++k) {
     EXPECT_NEAR(m.points[k].separation, -d, 1e-12);
@@ -360,7 +360,7 @@ TEST(CollidePlaneTest, HullWithManyVerticesNearThePlaneKeepsItsDeepest) {
   const double depth = 0.003;
   for (const testing::Lean& lean : testing::leaning_poses(*hull, 0.004, depth)) {
     Manifold m;
-    collide(prism, lean.pose, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kMargin, m);
+    collide(prism, lean.pose, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kContactMargin, m);
     ASSERT_EQ(m.point_count, 4);
     EXPECT_NEAR(testing::deepest_separation(m), -depth, 1e-12) << "leaning towards " << lean.direction << " rad";
   }
@@ -378,7 +378,7 @@ TEST(CollideBoxTest, StackedBoxesGiveFourCornersAtDepth) {
   const Transform ta = pose(Vec3(1.0, 2.0, 3.0), qa);
   const Transform tb = pose(ta.apply(Vec3(0.2, ha.y() + hb.y() - d, -0.1)), qa * rotation_about(Vec3::UnitY(), 0.3));
   Manifold m;
-  collide(box_shape(ha), ta, box_shape(hb), tb, kMargin, m);
+  collide(box_shape(ha), ta, box_shape(hb), tb, kContactMargin, m);
   ASSERT_EQ(m.point_count, 4);
   const Vec3 up = ta.rotation.col(1);
   expect_vec_near(m.normal, up, 1e-12, "normal along the stack");
@@ -410,7 +410,7 @@ TEST(CollideBoxTest, SlightlyTiltedStackHasEachCornersOwnDepth) {
   const Transform ta = pose(Vec3::Zero());
   const Transform tb = pose(Vec3(0.1, centre_height, 0.0), rotation_about(Vec3::UnitX(), alpha));
   Manifold m;
-  collide(box_shape(ha), ta, box_shape(hb), tb, kMargin, m);
+  collide(box_shape(ha), ta, box_shape(hb), tb, kContactMargin, m);
   ASSERT_EQ(m.point_count, 4);
   expect_vec_near(m.normal, Vec3::UnitY(), 1e-12, "normal");
   for (int k = 0; k < 4; ++k) {
@@ -451,7 +451,7 @@ TEST(CollideBoxTest, BoxTurnedFortyFiveDegreesOnBoxReducesOctagonToFour) {
   const Transform ta = pose(Vec3::Zero());
   const Transform tb = pose(Vec3(0.0, 1.0 - d, 0.0), rotation_about(Vec3::UnitY(), kPi / 4));
   Manifold m;
-  collide(box_shape(half), ta, box_shape(half), tb, kMargin, m);
+  collide(box_shape(half), ta, box_shape(half), tb, kContactMargin, m);
   ASSERT_EQ(m.point_count, 4);
   expect_vec_near(m.normal, Vec3::UnitY(), 1e-12, "normal");
   std::vector<Vec3> footprint;
@@ -486,7 +486,7 @@ TEST(CollideBoxTest, CrossedEdgesGiveOnePointAlongTheEdgeCross) {
   const Transform ta = pose(Vec3::Zero(), rotation_about(Vec3::UnitZ(), kPi / 4));
   const Transform tb = pose(Vec3(0.1, 2.0 * r - d, -0.15), rotation_about(Vec3::UnitX(), kPi / 4));
   Manifold m;
-  collide(box_shape(half), ta, box_shape(half), tb, kMargin, m);
+  collide(box_shape(half), ta, box_shape(half), tb, kContactMargin, m);
   ASSERT_EQ(m.point_count, 1);
   expect_vec_near(m.normal, Vec3::UnitZ().cross(Vec3::UnitX()), 1e-12, "normal");
   EXPECT_NEAR(m.points[0].separation, -d, 1e-12);
@@ -506,7 +506,7 @@ TEST(CollideBoxTest, RandomOverlapsSatisfyManifoldInvariants) {
     const Transform ta = pose(random_vector(rng, -1.0, 1.0), random_rotation(rng));
     const Transform tb = pose(ta.position + random_vector(rng, -1.5, 1.5), random_rotation(rng));
     Manifold m;
-    collide(box_shape(ha), ta, box_shape(hb), tb, kMargin, m);
+    collide(box_shape(ha), ta, box_shape(hb), tb, kContactMargin, m);
     if (m.point_count == 0) continue;
     ++touching;
     ASSERT_LE(m.point_count, kMaxManifoldPoints);
@@ -517,7 +517,7 @@ TEST(CollideBoxTest, RandomOverlapsSatisfyManifoldInvariants) {
       const ManifoldPoint& p = m.points[k];
       ids.insert(p.id);
       EXPECT_NEAR((p.point_b - p.point_a).dot(m.normal), p.separation, 1e-12);
-      EXPECT_LE(p.separation, kMargin + 1e-12);
+      EXPECT_LE(p.separation, kContactMargin + 1e-12);
       EXPECT_NEAR(box_surface_height(ta.apply_inverse(p.point_a), ha), 0.0, 1e-9)
           << "trial " << trial << " point " << k;
       EXPECT_NEAR(box_surface_height(tb.apply_inverse(p.point_b), hb), 0.0, 1e-9)
@@ -638,24 +638,24 @@ TEST_P(GapTest, PointsOnlyWithinTheSpeculativeMargin) {
   Shape a, b;
   Transform ta, tb;
   // Touching within the margin: speculative points, the nearest at the gap.
-  for (double gap : {-0.01, 0.0, 0.5 * kMargin, kMargin - 1e-4}) {
+  for (double gap : {-0.01, 0.0, 0.5 * kContactMargin, kContactMargin - 1e-4}) {
     c.place(gap, &a, &ta, &b, &tb);
     Manifold m;
-    collide(a, ta, b, tb, kMargin, m);
+    collide(a, ta, b, tb, kContactMargin, m);
     ASSERT_GE(m.point_count, 1) << "gap " << gap;
     double nearest = INFINITY;
     for (int k = 0; k < m.point_count; ++k) {
       nearest = std::min(nearest, m.points[k].separation);
-      EXPECT_LE(m.points[k].separation, kMargin) << "gap " << gap;
+      EXPECT_LE(m.points[k].separation, kContactMargin) << "gap " << gap;
     }
     EXPECT_NEAR(nearest, gap, 1e-9) << "gap " << gap;
     expect_consistent(m);
   }
   // Beyond the margin: nothing.
-  for (double gap : {kMargin + 1e-4, 2 * kMargin, 1.0}) {
+  for (double gap : {kContactMargin + 1e-4, 2 * kContactMargin, 1.0}) {
     c.place(gap, &a, &ta, &b, &tb);
     Manifold m;
-    collide(a, ta, b, tb, kMargin, m);
+    collide(a, ta, b, tb, kContactMargin, m);
     EXPECT_EQ(m.point_count, 0) << "gap " << gap;
   }
 }
@@ -686,7 +686,7 @@ void expect_ids_persist(const Vec3& ha, const Vec3& hb, const Vec3& offset_on_a)
     const Transform tb = pose(Vec3(offset_on_a.x(), ha.y() + hb.y() - depth, offset_on_a.z()) + shift,
                               wobble * rotation_about(Vec3::UnitY(), 0.1));
     Manifold m;
-    collide(box_shape(ha), ta, box_shape(hb), tb, kMargin, m);
+    collide(box_shape(ha), ta, box_shape(hb), tb, kContactMargin, m);
     ASSERT_EQ(m.point_count, 4) << "frame " << frame;
     std::map<std::uint32_t, Vec3> now;
     for (int k = 0; k < 4; ++k) now[m.points[k].id] = tb.apply_inverse(m.points[k].point_b);
@@ -723,7 +723,7 @@ TEST(CollideFeatureIdTest, BoxOnPlaneKeepsCornerIds) {
     const Quat wobble = rotation_about(random_vector(rng, -1.0, 1.0), 1e-3);
     const Transform tb = pose(Vec3(0.0, 0.249, 0.0) + random_vector(rng, -5e-4, 5e-4), wobble);
     Manifold m;
-    collide(box_shape(half), tb, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kMargin, m);
+    collide(box_shape(half), tb, plane_shape(Vec3::UnitY(), 0.0), pose(Vec3::Zero()), kContactMargin, m);
     ASSERT_EQ(m.point_count, 4);
     std::map<std::uint32_t, Vec3> now;
     for (int k = 0; k < 4; ++k) now[m.points[k].id] = tb.apply_inverse(m.points[k].point_a);

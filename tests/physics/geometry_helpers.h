@@ -20,6 +20,12 @@
 
 namespace tumble::physics::testing {
 
+inline constexpr double kPi = std::numbers::pi;
+
+// WorldSettings::contact_margin's default: how far apart two shapes already
+// make contact points.
+inline constexpr double kContactMargin = 0.02;
+
 inline Transform pose(const Vec3& position, const Quat& orientation = Quat::Identity()) {
   return Transform{position, orientation.normalized().toRotationMatrix()};
 }

@@ -28,15 +28,14 @@ namespace {
 using testing::box_corners;
 using testing::centred_hull;
 using testing::hull_surface_height;
+using testing::kContactMargin;
+using testing::kPi;
 using testing::pose;
 using testing::random_rotation;
 using testing::random_vector;
 using testing::regular_octahedron;
 using testing::regular_tetrahedron;
 using testing::rotation_about;
-
-constexpr double kMargin = 0.02;
-constexpr double kPi = std::numbers::pi;
 
 std::vector<Vec3> moved(std::vector<Vec3> points, const Transform& t) {
   for (Vec3& p : points) p = t.apply(p);
@@ -197,8 +196,8 @@ TEST(HullCollideTest, TetrahedronVertexOverFaceAtTheGap) {
       EXPECT_NEAR(g.distance, gap, 1e-12);
     }
     Manifold m;
-    collide(convex_hull_shape(tetrahedron), ta, convex_hull_shape(tetrahedron), tb, kMargin, m);
-    if (gap > kMargin) {
+    collide(convex_hull_shape(tetrahedron), ta, convex_hull_shape(tetrahedron), tb, kContactMargin, m);
+    if (gap > kContactMargin) {
       EXPECT_EQ(m.point_count, 0);
       continue;
     }
@@ -223,7 +222,7 @@ TEST(HullCollideTest, CubeHullsCornerToCornerAndFaceToFace) {
   // Face to face, 0.01 apart: four points at separation 0.01.
   const Transform tc = pose(ta.apply(Vec3(0.3, 1.01, -0.2)), turn);
   Manifold m;
-  collide(convex_hull_shape(cube), ta, convex_hull_shape(cube), tc, kMargin, m);
+  collide(convex_hull_shape(cube), ta, convex_hull_shape(cube), tc, kContactMargin, m);
   ASSERT_EQ(m.point_count, 4);
   EXPECT_LT((m.normal - turn * Vec3::UnitY()).norm(), 1e-12);
   for (int k = 0; k < 4; ++k) EXPECT_NEAR(m.points[k].separation, 0.01, 1e-12);
@@ -240,7 +239,7 @@ TEST(HullCollideTest, SixtyFourSidedFaceOnBoxKeepsItsDeepest) {
   const double depth = 0.003;
   for (const testing::Lean& lean : testing::leaning_poses(*hull, 0.004, depth)) {
     Manifold m;
-    collide(box_shape(Vec3(3.0, 0.5, 3.0)), pose(Vec3(0.0, -0.5, 0.0)), prism, lean.pose, kMargin, m);
+    collide(box_shape(Vec3(3.0, 0.5, 3.0)), pose(Vec3(0.0, -0.5, 0.0)), prism, lean.pose, kContactMargin, m);
     ASSERT_EQ(m.point_count, 4);
     EXPECT_NEAR(testing::deepest_separation(m), -depth, 1e-12) << "leaning towards " << lean.direction << " rad";
   }
@@ -305,13 +304,13 @@ TEST(HullCollideTest, BoxHullCollidesLikeBoxShape) {
   };
   for (const PosePair& p : poses) {
     Manifold want, got;
-    collide(box_a, p.ta, box_b, p.tb, kMargin, want);
+    collide(box_a, p.ta, box_b, p.tb, kContactMargin, want);
     ASSERT_GT(want.point_count, 0) << p.name;
-    collide(box_a, p.ta, hull_b, p.tb, kMargin, got);
+    collide(box_a, p.ta, hull_b, p.tb, kContactMargin, got);
     expect_same_manifold(got, want, !p.reduced, std::string(p.name) + " box-hull");
-    collide(hull_a, p.ta, hull_b, p.tb, kMargin, got);
+    collide(hull_a, p.ta, hull_b, p.tb, kContactMargin, got);
     expect_same_manifold(got, want, !p.reduced, std::string(p.name) + " hull-hull");
-    collide(hull_a, p.ta, box_b, p.tb, kMargin, got);
+    collide(hull_a, p.ta, box_b, p.tb, kContactMargin, got);
     expect_same_manifold(got, want, !p.reduced, std::string(p.name) + " hull-box");
   }
 
@@ -323,12 +322,12 @@ TEST(HullCollideTest, BoxHullCollidesLikeBoxShape) {
     const Transform ta = pose(random_vector(rng, -1.0, 1.0), random_rotation(rng));
     const Transform tb = pose(ta.position + random_vector(rng, -1.1, 1.1), random_rotation(rng));
     Manifold want, got;
-    collide(box_a, ta, box_b, tb, kMargin, want);
+    collide(box_a, ta, box_b, tb, kContactMargin, want);
     if (want.point_count == 0) continue;
     ++compared;
-    collide(box_a, ta, hull_b, tb, kMargin, got);
+    collide(box_a, ta, hull_b, tb, kContactMargin, got);
     expect_same_manifold(got, want, true, "random box-hull " + std::to_string(trial));
-    collide(hull_a, ta, hull_b, tb, kMargin, got);
+    collide(hull_a, ta, hull_b, tb, kContactMargin, got);
     expect_same_manifold(got, want, true, "random hull-hull " + std::to_string(trial));
   }
   EXPECT_GT(compared, 100);
@@ -348,8 +347,8 @@ TEST(HullCollideTest, SphereOnBoxHullLikeSphereOnBox) {
     const Shape sphere = sphere_shape(std::uniform_real_distribution<double>(0.05, 0.5)(rng));
     const Transform ts = pose(t.apply(random_vector(rng, -1.0, 1.0)));
     Manifold want, got;
-    collide(sphere, ts, box, t, kMargin, want);
-    collide(sphere, ts, hull, t, kMargin, got);
+    collide(sphere, ts, box, t, kContactMargin, want);
+    collide(sphere, ts, hull, t, kContactMargin, got);
     if (want.point_count > 0) ++compared;
     expect_same_manifold(got, want, true, "sphere " + std::to_string(trial));
   }

@@ -21,8 +21,6 @@ using testing::kTick;
 using testing::settings_without_sleep;
 using testing::sphere_body;
 
-constexpr double kPi = std::numbers::pi;
-
 // A joint of `type` between a and b at a world anchor (the same for both)
 // with a world axis.
 JointDesc joint_at(const World& world, JointType type, BodyId a, BodyId b, const Vec3& anchor,
@@ -85,7 +83,7 @@ TEST(JointTest, APointMassOnADistanceJointSwingsWithTheSmallAnglePeriod) {
       world.add_body(sphere_body(pivot + length * Vec3(std::sin(angle), -std::cos(angle), 0), 0.01, 1.0));
   world.add_joint(rod(world, kWorldBodyId, bob, pivot, world.position(bob)));
   const double period = measured_period(world, 12.0, [&] { return world.position(bob).x(); });
-  const double expected = 2 * kPi * std::sqrt(length / kGravity);
+  const double expected = 2 * std::numbers::pi * std::sqrt(length / kGravity);
   EXPECT_NEAR(period, expected, 0.005 * expected);
 }
 
@@ -106,14 +104,14 @@ TEST(JointTest, ARodOnAHingeSwingsWithTheCompoundPendulumPeriod) {
   // the full height h and width w.
   const double d = half_length;
   const double inertia = mass * (4 * half_length * half_length + 4 * half_width * half_width) / 12 + mass * d * d;
-  const double expected = 2 * kPi * std::sqrt(inertia / (mass * kGravity * d));
+  const double expected = 2 * std::numbers::pi * std::sqrt(inertia / (mass * kGravity * d));
   EXPECT_NEAR(period, expected, 0.005 * expected);
 }
 
 TEST(JointTest, AFrictionlessPendulumKeepsItsEnergyForAMinute) {
   World world;
   world.set_settings(settings_without_sleep());
-  const double length = 1.0, angle = kPi / 3;
+  const double length = 1.0, angle = std::numbers::pi / 3;
   const Vec3 pivot(0, 2, 0);
   const BodyId bob =
       world.add_body(sphere_body(pivot + length * Vec3(std::sin(angle), -std::cos(angle), 0), 0.05, 1.0));
@@ -262,8 +260,8 @@ RagdollDrop drop_ragdolls(double turn_step, int max_steps) {
     joints.insert(joints.end(), ragdoll.begin(), ragdoll.end());
     // Turned onto its back about the x axis through its feet, by a quarter
     // turn, and about y by a varying angle.
-    const Quat turn =
-        Quat(Eigen::AngleAxisd(turn_step * i, Vec3::UnitY())) * Quat(Eigen::AngleAxisd(-kPi / 2, Vec3::UnitX()));
+    const Quat turn = Quat(Eigen::AngleAxisd(turn_step * i, Vec3::UnitY())) *
+                      Quat(Eigen::AngleAxisd(-std::numbers::pi / 2, Vec3::UnitX()));
     for (std::size_t k = first_body; k < world.body_count(); ++k) {
       const BodyId id = world.body_id_at(k);
       world.set_state(id, base + turn * (world.position(id) - base), turn * world.orientation(id), Vec3::Zero(),
@@ -301,8 +299,8 @@ TEST(JointTest, AHingeLimitHoldsALoadedDoor) {
     flap.world.step(kTick);
     lowest = std::min(lowest, flap.world.joint_state(flap.hinge).position);
   }
-  EXPECT_GT(lowest, -0.5 - 0.5 * kPi / 180);
-  EXPECT_NEAR(flap.world.joint_state(flap.hinge).position, -0.5, 0.5 * kPi / 180);
+  EXPECT_GT(lowest, -0.5 - 0.5 * std::numbers::pi / 180);
+  EXPECT_NEAR(flap.world.joint_state(flap.hinge).position, -0.5, 0.5 * std::numbers::pi / 180);
 }
 
 TEST(JointTest, AHingeMotorHoldsItsSpeedUnderLoadWithinItsTorque) {
@@ -348,7 +346,7 @@ TEST(JointTest, AHingePositionMotorTurnsToItsTarget) {
   // / k with k = I omega^2, I the plank's inertia about its centre, m (4 +
   // 0.01) / 12 (the hinge's point rows carry the rest).
   const double inertia = 4.0 * (4 + 0.01) / 12;
-  const double stiffness = inertia * std::pow(2 * kPi * motor.hertz, 2);
+  const double stiffness = inertia * std::pow(2 * std::numbers::pi * motor.hertz, 2);
   const double sag = 4.0 * kGravity * 1.0 * std::cos(0.7) / stiffness;
   EXPECT_NEAR(flap.world.joint_state(flap.hinge).position, 0.7 - sag, 0.01);
 }

@@ -76,7 +76,7 @@ class SpawningTaskSystem final : public CountingTaskSystem {
 // 100 boxes and spheres dropped in a loose block with varied orientations,
 // a push and a removal on the way, 5 s at 240 Hz; returns the hash after
 // every half second.
-std::vector<std::uint64_t> run_pile(TaskSystem* tasks) {
+std::vector<std::uint64_t> run_pile_on(TaskSystem* tasks) {
   World world;
   world.set_task_system(tasks);
   world.add_body(ground_plane());
@@ -91,9 +91,9 @@ std::vector<std::uint64_t> run_pile(TaskSystem* tasks) {
 }
 
 TEST(TaskSystemTest, TasksInReverseOrderGiveTheBitsOfOneThread) {
-  const std::vector<std::uint64_t> one = run_pile(nullptr);
+  const std::vector<std::uint64_t> one = run_pile_on(nullptr);
   ReverseTaskSystem reverse;
-  EXPECT_EQ(run_pile(&reverse), one);
+  EXPECT_EQ(run_pile_on(&reverse), one);
   // The World handed it its phases, some split into several tasks (else the
   // order could not have mattered).
   EXPECT_GT(reverse.runs, 0);
@@ -102,9 +102,9 @@ TEST(TaskSystemTest, TasksInReverseOrderGiveTheBitsOfOneThread) {
 }
 
 TEST(TaskSystemTest, TasksOnThreadsItStartsGiveTheBitsOfOneThread) {
-  const std::vector<std::uint64_t> one = run_pile(nullptr);
+  const std::vector<std::uint64_t> one = run_pile_on(nullptr);
   SpawningTaskSystem spawning;
-  EXPECT_EQ(run_pile(&spawning), one);
+  EXPECT_EQ(run_pile_on(&spawning), one);
   EXPECT_GT(spawning.runs, 0);
   EXPECT_GT(spawning.largest_run, 1u);
 }
@@ -122,7 +122,7 @@ TEST(TaskSystemTest, ThreadCountAndTheWayBack) {
   EXPECT_EQ(world.thread_count(), 2);
 
   CountingTaskSystem single(1);
-  EXPECT_EQ(run_pile(&single), run_pile(nullptr));
+  EXPECT_EQ(run_pile_on(&single), run_pile_on(nullptr));
   EXPECT_EQ(single.runs, 0);
 }
 

@@ -17,6 +17,7 @@
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "test_scenes.h"
 
 namespace tumble::sim {
 namespace {
@@ -29,10 +30,7 @@ using tumble::v1::ServerMessage;
 using tumble::v1::StepEnd;
 
 // A free box in zero gravity: every tick is a step of the same small world.
-const char* kScene = R"({"gravity": [0, 0, 0], "bodies": [
-    {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2}]})";
-
-enum class Start { paused, running };
+enum class ClockStart { paused, running };
 
 // run_tick() steps one tick of a Step a pass, so a Step of 4 ticks is
 // still under way on the pass after the one that takes it up.
@@ -48,7 +46,7 @@ class TwoClients {
  public:
   TwoClients() {
     tumble::v1::Scene scene;
-    EXPECT_TRUE(parse_scene_json(kScene, &scene).ok());
+    EXPECT_TRUE(parse_scene_json(test::kCrateScene, &scene).ok());
     const Status status = Simulation::create(scene, SimConfig{}, &sim_);
     EXPECT_TRUE(status.ok()) << status.message();
   }
@@ -135,7 +133,7 @@ void expect_reply(const std::vector<ServerMessage>& replies, const Expected& exp
 // request, a pass, then kSettlePasses passes. A's Step is of kStepTicks,
 // as is B's.
 struct PairCase {
-  Start start;
+  ClockStart start;
   ClockRequest first;
   ClockRequest second;
   Expected first_reply;
@@ -146,12 +144,13 @@ struct PairCase {
 
 // gtest names the case by pair_name(); this is what it prints of one.
 void PrintTo(const PairCase& c, std::ostream* os) {
-  *os << (c.start == Start::paused ? "paused, " : "running, ") << name_of(c.first) << " then " << name_of(c.second);
+  *os << (c.start == ClockStart::paused ? "paused, " : "running, ") << name_of(c.first) << " then "
+      << name_of(c.second);
 }
 
 using R = ClockRequest;
-constexpr Start kPaused = Start::paused;
-constexpr Start kRunning = Start::running;
+constexpr ClockStart kPaused = ClockStart::paused;
+constexpr ClockStart kRunning = ClockStart::running;
 
 // Paused at tick 3, or running through tick 3 (a running pass steps once).
 const PairCase kPairs[] = {
@@ -218,13 +217,13 @@ TEST_P(ClockPairTest, EachIsAnsweredOnceAtItsTickAndAPausedTickStays) {
   const PairCase& c = GetParam();
   TwoClients clients;
   clients.passes(static_cast<int>(kStartTick));
-  if (c.start == Start::paused) {
+  if (c.start == ClockStart::paused) {
     clients.submit(clock_request(R::pause, 1, kStepTicks));
     clients.pass();
     ASSERT_EQ(clients.replies_to(1).size(), 1u);
   }
   ASSERT_EQ(clients.sim().tick(), kStartTick);
-  ASSERT_EQ(clients.sim().paused(), c.start == Start::paused);
+  ASSERT_EQ(clients.sim().paused(), c.start == ClockStart::paused);
 
   clients.submit(clock_request(c.first, 10, kStepTicks));  // client A
   clients.pass();
@@ -244,7 +243,8 @@ TEST_P(ClockPairTest, EachIsAnsweredOnceAtItsTickAndAPausedTickStays) {
 
 std::string pair_name(const ::testing::TestParamInfo<PairCase>& info) {
   const PairCase& c = info.param;
-  return std::string(c.start == Start::paused ? "Paused" : "Running") + name_of(c.first) + "Then" + name_of(c.second);
+  return std::string(c.start == ClockStart::paused ? "Paused" : "Running") + name_of(c.first) + "Then" +
+         name_of(c.second);
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryOrderedPair, ClockPairTest, ::testing::ValuesIn(kPairs), pair_name);

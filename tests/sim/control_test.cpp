@@ -21,13 +21,6 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-// Where the publisher draws the line between small interests, which go
-// early, and large ones (net/publisher.cpp).
-constexpr std::size_t kEarlyBodies = 64;
-
-constexpr double kRate = 240;
-constexpr double kDt = 1.0 / kRate;
-
 // A free box of 2 kg and a ball of 1 kg in zero gravity, far apart.
 const char* kFreeScene = R"({"gravity": [0, 0, 0], "bodies": [
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2},
@@ -37,15 +30,6 @@ const char* kFreeScene = R"({"gravity": [0, 0, 0], "bodies": [
 const char* kRestingScene = R"({"gravity": [0, -9.81, 0], "bodies": [
     {"name": "ground", "static": true, "shape": {"plane": {"normal": [0, 1, 0], "offset": 0}}},
     {"name": "crate", "shape": {"box": {"half_extents": [0.5, 0.5, 0.5]}}, "mass": 2, "position": [0, 0.5, 0]}]})";
-
-std::unique_ptr<Simulation> make_sim(const char* scene_json, SimConfig config = {}) {
-  tumble::v1::Scene scene;
-  EXPECT_TRUE(parse_scene_json(scene_json, &scene).ok());
-  std::unique_ptr<Simulation> sim;
-  const Status status = Simulation::create(scene, config, &sim);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return sim;
-}
 
 ClientMessage spawn_sphere(const std::string& name, double radius, double mass, double x, double y, double z) {
   ClientMessage message;

@@ -55,25 +55,6 @@ std::string scene_with(const std::string& joints, const char* gravity = "[0, 0, 
   return std::string(R"({"gravity": )") + gravity + R"(, "bodies": [)" + kBodies + R"(], "joints": [)" + joints + "]}";
 }
 
-// The message of creating a simulation from `json`, or "" when it loads.
-std::string load_error(const std::string& json) {
-  tumble::v1::Scene scene;
-  if (Status status = parse_scene_json(json, &scene); !status.ok()) return status.message();
-  std::unique_ptr<Simulation> sim;
-  Status status = Simulation::create(scene, SimConfig{}, &sim);
-  return status.ok() ? "" : status.message();
-}
-
-std::unique_ptr<Simulation> make_sim(const std::string& json) {
-  tumble::v1::Scene scene;
-  const Status parsed = parse_scene_json(json, &scene);
-  EXPECT_TRUE(parsed.ok()) << parsed.message();
-  std::unique_ptr<Simulation> sim;
-  const Status status = Simulation::create(scene, SimConfig{}, &sim);
-  EXPECT_TRUE(status.ok()) << status.message();
-  return sim;
-}
-
 ClientMessage add_joint(const std::string& spec_json) {
   // The spec as a scene file writes it, read through the scene parser.
   tumble::v1::Scene scene;

@@ -14,15 +14,15 @@ namespace {
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
 
-constexpr int kBodies = 500;
+constexpr int kBodyCount = 500;
 
 class ListBodiesTest : public ::testing::Test {
  protected:
-  // kBodies spheres named "body-<i>", ids 0 to kBodies - 1, in a world whose
+  // kBodyCount spheres named "body-<i>", ids 0 to kBodyCount - 1, in a world whose
   // pages hold `page_bytes`.
   void make_world(std::size_t page_bytes) {
     tumble::v1::Scene scene;
-    for (int i = 0; i < kBodies; ++i) {
+    for (int i = 0; i < kBodyCount; ++i) {
       auto* body = scene.add_bodies();
       body->set_name("body-" + std::to_string(i));
       body->mutable_shape()->mutable_sphere()->set_radius(0.5);
@@ -30,7 +30,7 @@ class ListBodiesTest : public ::testing::Test {
       body->mutable_position()->set_x(3.0 * i);
     }
     SimConfig config;
-    config.max_bodies = kBodies;
+    config.max_bodies = kBodyCount;
     config.list_page_bytes = page_bytes;
     ASSERT_TRUE(Simulation::create(scene, config, &sim_).ok());
   }
@@ -68,9 +68,9 @@ class ListBodiesTest : public ::testing::Test {
 TEST_F(ListBodiesTest, AWorldThatFitsInOnePageComesWhole) {
   make_world(std::size_t{1} << 20);
   const tumble::v1::BodyList list = page(0);
-  ASSERT_EQ(list.bodies_size(), kBodies);
+  ASSERT_EQ(list.bodies_size(), kBodyCount);
   EXPECT_EQ(list.next_start_id(), 0u);
-  EXPECT_EQ(list.total_bodies(), static_cast<std::uint32_t>(kBodies));
+  EXPECT_EQ(list.total_bodies(), static_cast<std::uint32_t>(kBodyCount));
   EXPECT_EQ(list.request_id(), 7u);
   EXPECT_EQ(list.bodies(123).name(), "body-123");
   EXPECT_EQ(list.bodies(123).position().x(), 369.0);
@@ -82,9 +82,9 @@ TEST_F(ListBodiesTest, PagesHoldAtMostThePageSizeAndTogetherEveryBodyOnce) {
   // An empty request, as a client from before paging sends it: the first page, and word of more.
   const tumble::v1::BodyList first = page(0);
   EXPECT_GT(first.bodies_size(), 1);
-  EXPECT_LT(first.bodies_size(), kBodies);
+  EXPECT_LT(first.bodies_size(), kBodyCount);
   EXPECT_EQ(first.next_start_id(), static_cast<std::uint32_t>(first.bodies_size()));
-  EXPECT_EQ(first.total_bodies(), static_cast<std::uint32_t>(kBodies));
+  EXPECT_EQ(first.total_bodies(), static_cast<std::uint32_t>(kBodyCount));
   tumble::v1::BodyList bodies_only = first;
   bodies_only.clear_request_id();
   bodies_only.clear_tick();
@@ -94,9 +94,9 @@ TEST_F(ListBodiesTest, PagesHoldAtMostThePageSizeAndTogetherEveryBodyOnce) {
 
   std::size_t pages = 0;
   const std::vector<std::uint32_t> ids = list_all(&pages);
-  ASSERT_EQ(ids.size(), static_cast<std::size_t>(kBodies));
+  ASSERT_EQ(ids.size(), static_cast<std::size_t>(kBodyCount));
   for (std::size_t i = 0; i < ids.size(); ++i) EXPECT_EQ(ids[i], i);
-  EXPECT_GE(pages, static_cast<std::size_t>(kBodies / first.bodies_size()));
+  EXPECT_GE(pages, static_cast<std::size_t>(kBodyCount / first.bodies_size()));
 }
 
 TEST_F(ListBodiesTest, StartIdAndMaxBodiesChooseThePage) {
@@ -106,13 +106,13 @@ TEST_F(ListBodiesTest, StartIdAndMaxBodiesChooseThePage) {
   EXPECT_EQ(list.bodies(0).id(), 100u);
   EXPECT_EQ(list.bodies(9).id(), 109u);
   EXPECT_EQ(list.next_start_id(), 110u);
-  list = page(kBodies - 3, 3);
+  list = page(kBodyCount - 3, 3);
   EXPECT_EQ(list.bodies_size(), 3);
   EXPECT_EQ(list.next_start_id(), 0u);  // nothing after it
-  list = page(kBodies + 5);
+  list = page(kBodyCount + 5);
   EXPECT_EQ(list.bodies_size(), 0);
   EXPECT_EQ(list.next_start_id(), 0u);
-  EXPECT_EQ(list.total_bodies(), static_cast<std::uint32_t>(kBodies));
+  EXPECT_EQ(list.total_bodies(), static_cast<std::uint32_t>(kBodyCount));
 }
 
 TEST_F(ListBodiesTest, APageLargerThanTheBodyItStartsWithStillHoldsIt) {
@@ -136,7 +136,7 @@ TEST_F(ListBodiesTest, RemovedBodiesAreSkippedAndTheNextStartIdIsAnIdThatExists)
   EXPECT_EQ(list.next_start_id(), 20u);
   list = page(12, 1);
   EXPECT_EQ(list.bodies(0).id(), 20u);
-  EXPECT_EQ(list.total_bodies(), static_cast<std::uint32_t>(kBodies - 10));
+  EXPECT_EQ(list.total_bodies(), static_cast<std::uint32_t>(kBodyCount - 10));
 }
 
 }  // namespace

@@ -5,21 +5,13 @@
 
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "sim_driver.h"
 #include "tumble/physics/convex_hull.h"
 
 namespace tumble::sim {
 namespace {
 
 Status parse(const std::string& json, tumble::v1::Scene* scene) { return parse_scene_json(json, scene); }
-
-// The message of creating a simulation from `json`, or "" when it loads.
-std::string load_error(const std::string& json) {
-  tumble::v1::Scene scene;
-  if (Status status = parse(json, &scene); !status.ok()) return status.message();
-  std::unique_ptr<Simulation> sim;
-  Status status = Simulation::create(scene, SimConfig{}, &sim);
-  return status.ok() ? "" : status.message();
-}
 
 TEST(SceneFile, ParsesTheExampleFromTheReadme) {
   tumble::v1::Scene scene;

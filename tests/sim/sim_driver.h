@@ -9,13 +9,44 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "sim/request_check.h"
+#include "sim/scene_file.h"
 #include "sim/simulation.h"
 
 namespace tumble::sim {
+
+// The tick rate the tests run at (tumbled's default), and its tick in seconds.
+inline constexpr double kRate = 240;
+inline constexpr double kDt = 1.0 / kRate;
+
+// Where the publisher draws the line between small interests, which go
+// early, and large ones (net/publisher.cpp).
+inline constexpr std::size_t kEarlyBodies = 64;
+
+// A simulation of the scene `json` with `config`; a test failure (and
+// null) when either is refused.
+inline std::unique_ptr<Simulation> make_sim(const std::string& json, SimConfig config = {}) {
+  tumble::v1::Scene scene;
+  const Status parsed = parse_scene_json(json, &scene);
+  EXPECT_TRUE(parsed.ok()) << parsed.message();
+  std::unique_ptr<Simulation> sim;
+  const Status status = Simulation::create(scene, config, &sim);
+  EXPECT_TRUE(status.ok()) << status.message();
+  return sim;
+}
+
+// The message of creating a simulation from `json`, or "" when it loads.
+inline std::string load_error(const std::string& json) {
+  tumble::v1::Scene scene;
+  if (Status status = parse_scene_json(json, &scene); !status.ok()) return status.message();
+  std::unique_ptr<Simulation> sim;
+  Status status = Simulation::create(scene, SimConfig{}, &sim);
+  return status.ok() ? "" : status.message();
+}
 
 class Driver {
  public:

@@ -16,19 +16,13 @@
 #include "sim/request_check.h"
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
+#include "sim_driver.h"
 
 namespace tumble::sim {
 namespace {
 
 using tumble::v1::ClientMessage;
 using tumble::v1::ServerMessage;
-
-// Where the publisher draws the line between small interests, which go
-// early, and large ones (net/publisher.cpp).
-constexpr std::size_t kEarlyBodies = 64;
-
-constexpr double kRate = 240;
-constexpr double kDt = 1.0 / kRate;
 
 class SimulationTest : public ::testing::Test {
  protected:

@@ -53,7 +53,7 @@ std::string encoded(const tumble::v1::WorldState& state) {
 }
 
 // The error parse_state_file gives `bytes`, or "" when it accepts them.
-std::string error_of(std::string_view bytes, tumble::v1::WorldState* state = nullptr) {
+std::string state_file_error(std::string_view bytes, tumble::v1::WorldState* state = nullptr) {
   tumble::v1::WorldState read;
   StateFileFormat format{};
   const Status status = parse_state_file(bytes, state != nullptr ? state : &read, &format);
@@ -75,10 +75,10 @@ std::string read_bytes(const std::string& path) {
 TEST(StateFile, EveryTruncationIsRefused) {
   const tumble::v1::WorldState original = small_world();
   const std::string bytes = encoded(original);
-  ASSERT_EQ(error_of(bytes), "");
+  ASSERT_EQ(state_file_error(bytes), "");
   std::map<std::string, int> kinds;
   for (std::size_t size = 0; size < bytes.size(); ++size) {
-    const std::string error = error_of(std::string_view(bytes).substr(0, size));
+    const std::string error = state_file_error(std::string_view(bytes).substr(0, size));
     ASSERT_NE(error, "") << "cut to " << size << " of " << bytes.size() << " bytes, the file was accepted";
     ++kinds[kind_of(error)];
   }
@@ -104,7 +104,7 @@ TEST(StateFile, EverySingleByteChangeIsRefusedOrGivesTheSameWorld) {
       std::string damaged = bytes;
       damaged[at] = static_cast<char>(value);
       tumble::v1::WorldState read;
-      const std::string error = error_of(damaged, &read);
+      const std::string error = state_file_error(damaged, &read);
       if (error.empty()) {
         ++(read.SerializeAsString() == original.SerializeAsString() ? accepted : other_world);
         continue;
@@ -128,28 +128,28 @@ TEST(StateFile, EverySingleByteChangeIsRefusedOrGivesTheSameWorld) {
 
 TEST(StateFile, EachKindOfDamageIsNamed) {
   const std::string bytes = encoded(small_world());
-  EXPECT_EQ(error_of("tumble-state-v2\n"), "cut short: 16 bytes end before its 8-byte payload length");
-  EXPECT_EQ(error_of("tumble-state-v1\n"), "nothing after its magic: the file holds no world");
-  EXPECT_EQ(error_of("tumble-s"), "cut short inside its magic (8 bytes)");
-  EXPECT_EQ(error_of(bytes + "x"), "too long: " + std::to_string(bytes.size() + 1) +
-                                       " bytes, where its length field makes " + std::to_string(bytes.size()));
+  EXPECT_EQ(state_file_error("tumble-state-v2\n"), "cut short: 16 bytes end before its 8-byte payload length");
+  EXPECT_EQ(state_file_error("tumble-state-v1\n"), "nothing after its magic: the file holds no world");
+  EXPECT_EQ(state_file_error("tumble-s"), "cut short inside its magic (8 bytes)");
+  EXPECT_EQ(state_file_error(bytes + "x"), "too long: " + std::to_string(bytes.size() + 1) +
+                                               " bytes, where its length field makes " + std::to_string(bytes.size()));
   std::string huge = bytes;
   huge[16 + 7] = '\x01';  // the length's top byte
-  EXPECT_EQ(error_of(huge), "bad length: its length field says " +
-                                std::to_string((std::uint64_t{1} << 56) + (bytes.size() - 28)) +
-                                " bytes, more than the 1 GiB a state file may hold");
+  EXPECT_EQ(state_file_error(huge), "bad length: its length field says " +
+                                        std::to_string((std::uint64_t{1} << 56) + (bytes.size() - 28)) +
+                                        " bytes, more than the 1 GiB a state file may hold");
   std::string flipped = bytes;
   flipped[40] ^= 0x01;
-  EXPECT_EQ(error_of(flipped).substr(0, 40), "bad checksum: the payload's CRC32C is 0x");
-  EXPECT_NE(error_of(flipped).find("(the file is damaged)"), std::string::npos);
+  EXPECT_EQ(state_file_error(flipped).substr(0, 40), "bad checksum: the payload's CRC32C is 0x");
+  EXPECT_NE(state_file_error(flipped).find("(the file is damaged)"), std::string::npos);
 
   // A payload that is whole and checksummed but not a world state.
   tumble::v1::WorldState no_version;
   no_version.set_tick(5);
-  EXPECT_EQ(error_of(encoded(no_version)), "the payload holds no world state (it has no format_version)");
+  EXPECT_EQ(state_file_error(encoded(no_version)), "the payload holds no world state (it has no format_version)");
   tumble::v1::WorldState future;
   future.set_format_version(9);
-  EXPECT_EQ(error_of(encoded(future)), "the payload is a world state of format 9; this tumbled reads format 1");
+  EXPECT_EQ(state_file_error(encoded(future)), "the payload is a world state of format 9; this tumbled reads format 1");
 }
 
 TEST(StateFile, AVersion1FileStillReads) {
@@ -186,14 +186,14 @@ TEST(StateFile, AWriteKeepsTheFileItReplacesAsPrev) {
 }
 
 // A start from <path>: resume_state with a world built from what it accepts.
-struct Start {
+struct Resumption {
   Status status;
   ResumedState resumed;
   std::uint64_t built_tick = 0;  // the tick of the world accepted
 };
 
-Start start(const std::string& path) {
-  Start result;
+Resumption start(const std::string& path) {
+  Resumption result;
   const auto build = [&](const tumble::v1::WorldState& state) {
     std::unique_ptr<Simulation> sim;
     Status status = Simulation::create_from_state(state, SimConfig{}, &sim);
@@ -221,7 +221,7 @@ TEST(StateResume, AGoodFileIsResumedAndNothingIsRenamed) {
   TempDir dir;
   const std::string path = dir.file("world.state");
   save_twice(path);
-  const Start result = start(path);
+  const Resumption result = start(path);
   ASSERT_TRUE(result.status.ok()) << result.status.message();
   EXPECT_TRUE(result.resumed.resumed);
   EXPECT_EQ(result.resumed.from, path);
@@ -239,7 +239,7 @@ TEST(StateResume, ADamagedFileFallsBackToPrevAndIsKeptAsEvidence) {
   write_bytes(path, bytes);
   write_bytes(path + ".damaged", "an earlier damaged file");
 
-  const Start result = start(path);
+  const Resumption result = start(path);
   ASSERT_TRUE(result.status.ok()) << result.status.message();
   EXPECT_EQ(result.resumed.from, path + ".prev");
   EXPECT_EQ(result.resumed.tick, 30u);
@@ -263,7 +263,7 @@ TEST(StateResume, AStateThatDoesNotBuildAWorldCountsAsDamaged) {
   tumble::v1::WorldState bad = small_world(60);
   bad.set_tick_rate_hz(0);
   write_bytes(path, encoded(bad));
-  const Start result = start(path);
+  const Resumption result = start(path);
   ASSERT_TRUE(result.status.ok()) << result.status.message();
   EXPECT_EQ(result.built_tick, 30u);
   ASSERT_FALSE(result.resumed.warnings.empty());
@@ -278,7 +278,7 @@ TEST(StateResume, BothDamagedIsAnErrorGivingBothReasonsAndRenamesNothing) {
   write_bytes(path, "tumble-state-v2\n");
   const std::string prev = read_bytes(path + ".prev");
   write_bytes(path + ".prev", prev.substr(0, prev.size() - 1));
-  const Start result = start(path);
+  const Resumption result = start(path);
   EXPECT_EQ(result.status.message(),
             path +
                 ": cut short: 16 bytes end before its 8-byte payload length; and the previous state file is "
@@ -302,7 +302,7 @@ TEST(StateResume, AMissingFileWithAGoodPrevResumesPrev) {
   const std::string path = dir.file("world.state");
   save_twice(path);
   fs::remove(path);  // as a crash between a save's two renames leaves it
-  const Start result = start(path);
+  const Resumption result = start(path);
   ASSERT_TRUE(result.status.ok()) << result.status.message();
   EXPECT_EQ(result.built_tick, 30u);
   ASSERT_EQ(result.resumed.warnings.size(), 1u);
@@ -311,7 +311,7 @@ TEST(StateResume, AMissingFileWithAGoodPrevResumesPrev) {
 
 TEST(StateResume, NoFileAtAllIsAFirstStart) {
   TempDir dir;
-  const Start result = start(dir.file("world.state"));
+  const Resumption result = start(dir.file("world.state"));
   EXPECT_TRUE(result.status.ok()) << result.status.message();
   EXPECT_FALSE(result.resumed.resumed);
   EXPECT_TRUE(result.resumed.warnings.empty());
@@ -321,7 +321,7 @@ TEST(StateResume, AVersion1FileIsResumedWithAWarning) {
   TempDir dir;
   const std::string path = dir.file("world.state");
   write_bytes(path, "tumble-state-v1\n" + small_world().SerializeAsString());
-  const Start result = start(path);
+  const Resumption result = start(path);
   ASSERT_TRUE(result.status.ok()) << result.status.message();
   EXPECT_EQ(result.resumed.from, path);
   ASSERT_EQ(result.resumed.warnings.size(), 1u);

@@ -35,6 +35,18 @@ inline tumble::v1::ClientMessage subscribe(std::uint64_t id, double rate_hz,
   return m;
 }
 
+// Spawns a 1 kg sphere called `name` of `radius` m at (0, 10, 0).
+inline tumble::v1::ClientMessage spawn_sphere(std::uint64_t id, const std::string& name, double radius = 0.5) {
+  tumble::v1::ClientMessage m;
+  m.set_request_id(id);
+  auto* body = m.mutable_spawn_body()->mutable_body();
+  body->set_name(name);
+  body->mutable_shape()->mutable_sphere()->set_radius(radius);
+  body->set_mass(1);
+  body->mutable_position()->set_y(10);
+  return m;
+}
+
 // fx N along x on `body`, for one tick.
 inline tumble::v1::ClientMessage force(std::uint64_t id, const std::string& body, double fx) {
   tumble::v1::ClientMessage m;

@@ -12,6 +12,14 @@
 
 namespace tumble::test {
 
+// A server config that serves HTTP and WebSocket beside TCP, with `limits`.
+inline net::ServerConfig with_http(net::SessionLimits limits = {}) {
+  net::ServerConfig config;
+  config.serve_http = true;
+  config.limits = limits;
+  return config;
+}
+
 class TestServer {
  public:
   // Loads `scene_json` and starts stepping at `tick_rate_hz`.
