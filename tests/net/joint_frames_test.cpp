@@ -29,7 +29,8 @@ const char* kScene = R"({"bodies": [
     {"name": "rope", "type": "distance", "body_a": "world", "body_b": "bob", "anchor_a": [3, 2, 0],
      "anchor_b": [3, 1, 0]}]})";
 
-ClientMessage subscribe(std::uint64_t id, tumble::v1::PoseEncoding encoding, bool joints, const char* body = nullptr) {
+ClientMessage subscribe_to_joints(std::uint64_t id, tumble::v1::PoseEncoding encoding, bool joints,
+                                  const char* body = nullptr) {
   ClientMessage m;
   m.set_request_id(id);
   m.mutable_subscribe()->set_encoding(encoding);
@@ -83,32 +84,44 @@ TEST_F(JointFramesTest, EveryEncodingCarriesEveryJointsStateAtItsTick) {
   pause.mutable_pause();
   ASSERT_TRUE(call(pause).has_ack());
   // The FULL stream follows the ball alone: the joints come all the same.
-  const std::uint32_t full = subscribed(subscribe(2, tumble::v1::POSE_ENCODING_FULL, true, "ball"));
-  const std::uint32_t quantized = subscribed(subscribe(3, tumble::v1::POSE_ENCODING_QUANTIZED, true));
-  const std::uint32_t delta = subscribed(subscribe(4, tumble::v1::POSE_ENCODING_DELTA, true));
-  const std::uint32_t without = subscribed(subscribe(5, tumble::v1::POSE_ENCODING_FULL, false));
+  const std::uint32_t full = subscribed(subscribe_to_joints(2, tumble::v1::POSE_ENCODING_FULL, true, "ball"));
+  const std::uint32_t quantized = subscribed(subscribe_to_joints(3, tumble::v1::POSE_ENCODING_QUANTIZED, true));
+  const std::uint32_t delta = subscribed(subscribe_to_joints(4, tumble::v1::POSE_ENCODING_DELTA, true));
+  const std::uint32_t without = subscribed(subscribe_to_joints(5, tumble::v1::POSE_ENCODING_FULL, false));
 
-  ClientMessage step;
-  step.set_request_id(6);
-  step.mutable_step()->set_ticks(30);
-  step.mutable_step()->set_reply_frame(true);
-  step.mutable_step()->set_frame_joints(true);
-  ASSERT_TRUE(client_.send(step));
-  // The stepped ticks' frames and the Step's Ack, in whatever order they
-  // come: the last tick's frame of every stream is what is compared.
+  // Steps `ticks` and reads the stepped ticks' frames and the Step's Ack,
+  // in whatever order they come, until every stream's frame of the last
+  // tick is in; returns the Ack.
   std::map<std::uint32_t, std::map<std::uint64_t, tumble::v1::PoseFrame>> frames;
-  std::optional<ServerMessage> ack;
-  const auto has_last = [&](std::uint32_t id) { return ack && frames[id].count(ack->ack().applied_tick()) > 0; };
-  while (!(has_last(full) && has_last(quantized) && has_last(delta) && has_last(without))) {
-    const auto m = client_.read_until([](const ServerMessage& r) { return r.has_pose_frame() || is_reply_to(r, 6); });
-    ASSERT_TRUE(m) << "the Step's Ack and every stream's frame of its last tick";
-    if (m->has_pose_frame()) {
-      frames[m->pose_frame().subscription_id()][m->pose_frame().tick()] = m->pose_frame();
-    } else {
-      ASSERT_TRUE(m->has_ack()) << m->DebugString();
-      ack = *m;
+  const auto step = [&](std::uint64_t request_id, std::uint32_t ticks) -> std::optional<ServerMessage> {
+    ClientMessage request;
+    request.set_request_id(request_id);
+    request.mutable_step()->set_ticks(ticks);
+    request.mutable_step()->set_reply_frame(true);
+    request.mutable_step()->set_frame_joints(true);
+    if (!client_.send(request)) return std::nullopt;
+    std::optional<ServerMessage> ack;
+    const auto has_last = [&](std::uint32_t id) { return ack && frames[id].count(ack->ack().applied_tick()) > 0; };
+    while (!(has_last(full) && has_last(quantized) && has_last(delta) && has_last(without))) {
+      const auto m =
+          client_.read_until([&](const ServerMessage& r) { return r.has_pose_frame() || is_reply_to(r, request_id); });
+      if (!m) return std::nullopt;
+      if (m->has_pose_frame()) {
+        frames[m->pose_frame().subscription_id()][m->pose_frame().tick()] = m->pose_frame();
+      } else {
+        if (!m->has_ack()) return std::nullopt;
+        ack = *m;
+      }
     }
-  }
+    return ack;
+  };
+  // One tick first, so that the DELTA stream has sent its key frame: a
+  // publication takes the newest snapshot, so on a busy machine the 30
+  // ticks below may come as a single frame, which would be the stream's
+  // first and a key frame.
+  ASSERT_TRUE(step(6, 1)) << "the first Step's Ack and every stream's frame of its tick";
+  const std::optional<ServerMessage> ack = step(8, 30);
+  ASSERT_TRUE(ack) << "the Step's Ack and every stream's frame of its last tick";
   const std::uint64_t tick = ack->ack().applied_tick();
 
   ClientMessage list_joints;
