@@ -3,6 +3,14 @@
 # project includes this file for every other target.
 option(TUMBLE_WERROR "Treat warnings as errors" OFF)
 
+# A unity build (CMAKE_UNITY_BUILD, scripts/build.sh's default) compiles a
+# target's files included into a few generated ones, so each file is no
+# longer the main file and GCC warns of every class that holds a type of
+# the file's anonymous namespace, which is the point of that namespace.
+if(CMAKE_UNITY_BUILD AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+  add_compile_options(-Wno-subobject-linkage)
+endif()
+
 function(tumble_warnings target)
   target_compile_options(${target} PRIVATE
     -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor -Wold-style-cast
