@@ -115,10 +115,13 @@ TEST_F(JointsCliTest, SubscribersHearOfJointsAddedAndOfABodysJointsRemovedWithIt
       {"joint", "add", "tie", "--distance", "crate", "ball", "--anchor", "0", "0", "0", "--anchor-b", "0", "0", "50"});
   run_json({"remove", "ball"});
   // The events of each edit arrive before the frame of its tick; stop at the body's removal.
+  // The joined pair may fall asleep between the two edits (a joint is
+  // something to rest on) when the machine is slow: sleep events are not
+  // the edits' and are passed over.
   std::vector<json> seen;
   for (std::size_t count = 2; seen.size() < 3 && events.wait_for_lines(count); ++count) {
     const json line = json::parse(events.lines()[count - 1]);
-    if (line.contains("event")) seen.push_back(line);
+    if (line.contains("event") && line["event"] != "asleep" && line["event"] != "awake") seen.push_back(line);
   }
   ASSERT_EQ(seen.size(), 3u);
   EXPECT_EQ(seen[0]["event"], "joint-added");
