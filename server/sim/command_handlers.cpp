@@ -199,12 +199,7 @@ ServerMessage Simulation::list_bodies(const ClientMessage& message) const {
     *info.mutable_shape() = it->second.shape;
     info.set_mass(world_.mass(id));
     set_vec3(world_.position(id), info.mutable_position());
-    const physics::Quat& q = world_.orientation(id);
-    auto* o = info.mutable_orientation();
-    o->set_w(q.w());
-    o->set_x(q.x());
-    o->set_y(q.y());
-    o->set_z(q.z());
+    set_quat(world_.orientation(id), info.mutable_orientation());
     set_vec3(world_.linear_velocity(id), info.mutable_linear_velocity());
     set_vec3(world_.angular_velocity(id), info.mutable_angular_velocity());
     info.set_motion(wire_motion(world_.motion_type(id)));

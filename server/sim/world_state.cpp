@@ -167,12 +167,7 @@ void body_spec_now(const physics::World& world, const BodyDirectory& directory, 
   spec.set_friction(world.friction(id));
   spec.set_restitution(world.restitution(id));
   set_vec3(world.position(id), spec.mutable_position());
-  const physics::Quat& q = world.orientation(id);
-  auto* orientation = spec.mutable_orientation();
-  orientation->set_w(q.w());
-  orientation->set_x(q.x());
-  orientation->set_y(q.y());
-  orientation->set_z(q.z());
+  set_quat(world.orientation(id), spec.mutable_orientation());
   set_vec3(world.linear_velocity(id), spec.mutable_linear_velocity());
   set_vec3(world.angular_velocity(id), spec.mutable_angular_velocity());
 }
