@@ -17,21 +17,22 @@ using testing::add_loose_pile;
 using testing::box_body;
 using testing::disturb_loose_pile;
 using testing::ground_plane;
+using testing::kLoosePileSteps;
 using testing::kTick;
 using testing::sphere_body;
 using testing::state_hash;
 
 // 100 bodies (boxes, and spheres every seventh) dropped in a loose block
-// with varied orientations, then 10 s of simulation, with a push and a
-// removal on the way, solved on `threads` threads. Returns the hash after
-// every second; most_islands is the most islands a step solved.
+// with varied orientations, then kLoosePileSteps of simulation, with a push
+// and a removal on the way, solved on `threads` threads. Returns the hash
+// after every second; most_islands is the most islands a step solved.
 std::vector<std::uint64_t> run_pile(int threads = 1, std::size_t* most_islands = nullptr) {
   World world;
   world.set_thread_count(threads);
   world.add_body(ground_plane());
   const std::vector<BodyId> ids = add_loose_pile(world);
   std::vector<std::uint64_t> hashes;
-  for (int i = 0; i < 10 * 240; ++i) {
+  for (int i = 0; i < kLoosePileSteps; ++i) {
     disturb_loose_pile(world, ids, i);
     world.step(kTick);
     if (most_islands != nullptr) *most_islands = std::max(*most_islands, world.last_step_stats().islands);
@@ -43,7 +44,7 @@ std::vector<std::uint64_t> run_pile(int threads = 1, std::size_t* most_islands =
 TEST(DeterminismTest, TwoRunsAreBitIdentical) {
   const std::vector<std::uint64_t> first = run_pile();
   const std::vector<std::uint64_t> second = run_pile();
-  ASSERT_EQ(first.size(), 10u);
+  ASSERT_EQ(first.size(), static_cast<std::size_t>(kLoosePileSteps / 240));
   EXPECT_EQ(first, second);
   // The pile did move: the hashes change from second to second early on.
   EXPECT_NE(first[0], first[1]);

@@ -17,6 +17,7 @@ namespace {
 using testing::add_loose_pile;
 using testing::disturb_loose_pile;
 using testing::ground_plane;
+using testing::kLoosePileSteps;
 using testing::kTick;
 using testing::state_hash;
 
@@ -74,15 +75,15 @@ class SpawningTaskSystem final : public CountingTaskSystem {
 };
 
 // 100 boxes and spheres dropped in a loose block with varied orientations,
-// a push and a removal on the way, 5 s at 240 Hz; returns the hash after
-// every half second.
+// a push and a removal on the way, kLoosePileSteps at 240 Hz; returns the
+// hash after every half second.
 std::vector<std::uint64_t> run_pile_on(TaskSystem* tasks) {
   World world;
   world.set_task_system(tasks);
   world.add_body(ground_plane());
   const std::vector<BodyId> ids = add_loose_pile(world);
   std::vector<std::uint64_t> hashes;
-  for (int i = 0; i < 5 * 240; ++i) {
+  for (int i = 0; i < kLoosePileSteps; ++i) {
     disturb_loose_pile(world, ids, i);
     world.step(kTick);
     if ((i + 1) % 120 == 0) hashes.push_back(state_hash(world));
