@@ -4,8 +4,8 @@
 #   BUILD_DIR=build BUILD_TYPE=Release scripts/build.sh [extra cmake args]
 # TARGETS="a b" builds only those targets (and what they need).
 # UNITY=0 compiles file by file instead of as a unity build (CMake's
-# CMAKE_UNITY_BUILD: each target's files eight to a compile, which takes
-# about 40% less time from nothing; docs/development.md "Builds").
+# CMAKE_UNITY_BUILD: each target's files sixteen to a compile, which takes
+# about half the time from nothing; docs/development.md "Builds").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
