@@ -15,6 +15,7 @@
 #include "cli_helpers.h"
 #include "http_client.h"
 #include "poll_until.h"
+#include "test_paths.h"
 #include "tumbled_process.h"
 #include "ws_client.h"
 
@@ -80,7 +81,7 @@ TEST(TumbledHttp, ServesThePageItWasBuiltWith) {
   const auto page = http_request(server.http_port, "GET", "/");
   ASSERT_TRUE(page);
   EXPECT_EQ(page->result_int(), 200u);
-  EXPECT_EQ(page->body(), read_file(std::string(TUMBLE_WEB_DIST) + "/index.html"));
+  EXPECT_EQ(page->body(), read_file(std::string(web_dist_dir()) + "/index.html"));
   EXPECT_EQ(page->at(boost::beast::http::field::content_type), "text/html; charset=utf-8");
   const auto script = http_request(server.http_port, "HEAD", "/viewer.js");
   ASSERT_TRUE(script);

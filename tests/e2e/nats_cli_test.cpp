@@ -18,6 +18,7 @@
 #include "poll_until.h"
 #include "process.h"
 #include "scoped_env.h"
+#include "test_paths.h"
 #include "tumble/v1/world_info.pb.h"
 #include "tumbled_process.h"
 
@@ -35,7 +36,7 @@ constexpr const char* kTumbledPassword = "tbd-pass";
 // docker/nats/auth.conf as committed (the very file the docs and the image
 // use), with the test's passwords.
 NatsConfig auth_config() {
-  return {read_file(TUMBLE_NATS_AUTH_CONF),
+  return {read_file(nats_auth_conf_path()),
           {std::string("TUMBLE_NATS_OBSERVER_PASSWORD=") + kObserverPassword,
            std::string("TUMBLE_NATS_CONTROLLER_PASSWORD=") + kControllerPassword,
            std::string("TUMBLE_NATS_TUMBLED_PASSWORD=") + kTumbledPassword}};
@@ -140,8 +141,8 @@ TEST(NatsAuthConfig, NatsServerRefusesTheFileWhileAPasswordIsMissing) {
   const ScopedEnv observer("TUMBLE_NATS_OBSERVER_PASSWORD", nullptr);
   const ScopedEnv controller("TUMBLE_NATS_CONTROLLER_PASSWORD", nullptr);
   const ScopedEnv tumbled("TUMBLE_NATS_TUMBLED_PASSWORD", nullptr);
-  const std::string text = read_file(TUMBLE_NATS_AUTH_CONF);
-  ASSERT_NE(text.find("authorization"), std::string::npos) << "not read: " << TUMBLE_NATS_AUTH_CONF;
+  const std::string text = read_file(nats_auth_conf_path());
+  ASSERT_NE(text.find("authorization"), std::string::npos) << "not read: " << nats_auth_conf_path();
   NatsServerProcess nats(text);
   EXPECT_FALSE(nats.start());
   EXPECT_NE(nats.log().find("TUMBLE_NATS_OBSERVER_PASSWORD"), std::string::npos) << nats.log();

@@ -8,6 +8,7 @@
 #include "http_client.h"
 #include "process.h"
 #include "raw_client.h"
+#include "test_paths.h"
 #include "test_scenes.h"
 #include "test_server.h"
 #include "web/embedded_files.h"
@@ -18,7 +19,7 @@ namespace {
 namespace http = boost::beast::http;
 
 // A file of web/dist as it is in the source tree.
-std::string dist_file(const std::string& path) { return read_file(std::string(TUMBLE_WEB_DIST) + "/" + path); }
+std::string dist_file(const std::string& path) { return read_file(std::string(web_dist_dir()) + "/" + path); }
 
 // The headers every response has, whatever its status.
 void ExpectCommonHeaders(const HttpResponse& response) {
@@ -48,8 +49,8 @@ TEST_F(HttpEndpointTest, RootServesIndexHtmlExactly) {
 
 TEST_F(HttpEndpointTest, EveryFileOfWebDistIsEmbeddedAndServed) {
   std::size_t on_disk = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(TUMBLE_WEB_DIST)) {
-    const std::string relative = std::filesystem::relative(entry.path(), TUMBLE_WEB_DIST).generic_string();
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(web_dist_dir())) {
+    const std::string relative = std::filesystem::relative(entry.path(), web_dist_dir()).generic_string();
     if (!entry.is_regular_file() || relative.front() == '.' || relative.find("/.") != std::string::npos) continue;
     ++on_disk;
     const auto response = http_request(server_.http_port(), "GET", "/" + relative);

@@ -6,6 +6,7 @@
 #include "sim/scene_file.h"
 #include "sim/simulation.h"
 #include "sim_driver.h"
+#include "test_paths.h"
 #include "tumble/physics/convex_hull.h"
 
 namespace tumble::sim {
@@ -184,7 +185,7 @@ class ShippedScene : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ShippedScene, Loads) {
   tumble::v1::Scene scene;
-  const Status status = load_scene_file(std::string(TUMBLE_SCENES_DIR "/") + GetParam(), &scene);
+  const Status status = load_scene_file(std::string(test::scenes_dir()) + "/" + GetParam(), &scene);
   ASSERT_TRUE(status.ok()) << status.message();
   std::unique_ptr<Simulation> sim;
   const Status created = Simulation::create(scene, SimConfig{}, &sim);
@@ -197,7 +198,7 @@ TEST_P(ShippedScene, Loads) {
 // has stopped bouncing and the rider has gone round with the turntable.
 TEST(SceneFile, ThePlaygroundSettles) {
   tumble::v1::Scene scene;
-  ASSERT_TRUE(load_scene_file(TUMBLE_SCENES_DIR "/playground.json", &scene).ok());
+  ASSERT_TRUE(load_scene_file(std::string(test::scenes_dir()) + "/playground.json", &scene).ok());
   std::unique_ptr<Simulation> sim;
   ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
   for (int i = 0; i < 20 * 240; ++i) sim->run_tick();
@@ -227,7 +228,7 @@ TEST(SceneFile, ThePlaygroundSettles) {
 // still awake after the 10 s (tried).
 TEST(SceneFile, TheRagdollsComeToRest) {
   tumble::v1::Scene scene;
-  ASSERT_TRUE(load_scene_file(TUMBLE_SCENES_DIR "/ragdoll.json", &scene).ok());
+  ASSERT_TRUE(load_scene_file(std::string(test::scenes_dir()) + "/ragdoll.json", &scene).ok());
   std::unique_ptr<Simulation> sim;
   ASSERT_TRUE(Simulation::create(scene, SimConfig{}, &sim).ok());
   const auto& world = sim->world();

@@ -5,9 +5,6 @@
 
 namespace tumble::test {
 
-const char* tumbled_path() { return TUMBLE_TUMBLED_PATH; }
-const char* tumble_cli_path() { return TUMBLE_CLI_PATH; }
-
 TumbledProcess::TumbledProcess(const std::string& scene_json, const std::vector<std::string>& extra_args,
                                std::uint16_t port)
     : dir_(make_temp_dir()), log_path_(dir_ + "/tumbled.log") {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "process.h"
+#include "test_paths.h"
 
 namespace tumble::test {
 
@@ -38,9 +39,5 @@ class TumbledProcess {
   std::unique_ptr<ChildProcess> process_;
   std::uint16_t port_ = 0;
 };
-
-// Paths of the built binaries, set by CMake.
-const char* tumbled_path();
-const char* tumble_cli_path();
 
 }  // namespace tumble::test
