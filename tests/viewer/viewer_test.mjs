@@ -71,14 +71,19 @@ const distance = (a, b) => Math.hypot(...a.map((x, i) => x - b[i]));
 
 // Waits until the CLI shows body `name` at rest (it has landed and
 // settled); returns the body and the tick the CLI saw it at.
-async function waitUntilAtRest(name) {
+// With { asleep: true }, until the server has put it to sleep: it then
+// stays exactly where it is, so a pose drawn from any later frame must be
+// that one. Merely slow, it may still creep a few millimetres by then.
+async function waitUntilAtRest(name, { asleep = false } = {}) {
   const deadline = Date.now() + 3 * kWaitMs;
   for (;;) {
     const list = await tumble("bodies");
     const body = list.bodies.find((b) => b.name === name);
     assert.ok(body, `no body named ${name}`);
-    if (length(body.linear_velocity) < 0.02 && length(body.angular_velocity) < 0.05) return { ...body, tick: list.tick };
-    assert.ok(Date.now() < deadline, `${name} did not come to rest: ${JSON.stringify(body)}`);
+    const resting = asleep ? body.asleep
+                           : length(body.linear_velocity) < 0.02 && length(body.angular_velocity) < 0.05;
+    if (resting) return { ...body, tick: list.tick };
+    assert.ok(Date.now() < deadline, `${name} did not come to rest${asleep ? " asleep" : ""}: ${JSON.stringify(body)}`);
     await new Promise((resolve) => setTimeout(resolve, 200));
   }
 }
@@ -345,8 +350,8 @@ test("through NATS the page draws the bodies where the pose stream puts them, an
   const cliIds = (await tumble("bodies")).bodies.map((b) => b.id).sort((a, b) => a - b);
   assert.deepEqual(await page.evaluate(() => window.tumbleViewer.bodyIds().sort((a, b) => a - b)), cliIds);
 
-  // At rest, crate4 is drawn where the server has it, within the DELTA stream's grid (1/1024 m).
-  const resting = await waitUntilAtRest("crate4");
+  // Asleep, crate4 is drawn where the server has it, within the DELTA stream's grid (1/1024 m).
+  const resting = await waitUntilAtRest("crate4", { asleep: true });
   await waitUntilDrawnPast(page, resting.tick);
   const crate = await page.evaluate(() => window.tumbleViewer.bodyId("crate4"));
   const drawn = await page.evaluate((id) => window.tumbleViewer.position(id), crate);
@@ -365,7 +370,7 @@ test("through NATS an observer sees every body, and NATS refuses its push", { sk
   await waitUntilReady(page);
   assert.equal(await page.evaluate(() => window.tumbleViewer.role), "ROLE_OBSERVER");
   assert.equal(await page.locator('[data-hud="role"]').textContent(), "observer");
-  const resting = await waitUntilAtRest("crate2");
+  const resting = await waitUntilAtRest("crate2", { asleep: true });
   await waitUntilDrawnPast(page, resting.tick);
   // The observer lists the bodies on .query: it knows crate2 by name, as a controller does.
   const id = resting.id;
