@@ -20,10 +20,15 @@ if [[ $mode == fix ]]; then
   clang-format -i "${files[@]}"
   exit 0
 fi
-unformatted=()
-for f in "${files[@]}"; do
-  clang-format --dry-run --Werror "$f" >/dev/null 2>&1 || unformatted+=("$f")
-done
+# clang-format on batches of 64 files, two batches at a time (one process
+# a file took 40 s); each file it would change is named in an error line.
+report=$(printf '%s\0' "${files[@]}" | xargs -0 -n 64 -P 2 clang-format --dry-run --Werror 2>&1 >/dev/null) && rc=0 || rc=$?
+mapfile -t unformatted < <(sed -n 's/^\(.*\):[0-9]*:[0-9]*: error: code should be clang-formatted.*/\1/p' <<<"$report" | sort -u)
+if ((rc != 0 && ${#unformatted[@]} == 0)); then
+  echo "format.sh: clang-format failed:" >&2
+  echo "$report" >&2
+  exit 2
+fi
 if ((${#unformatted[@]})); then
   echo "format.sh: ${#unformatted[@]} of ${#files[@]} files are not formatted (run scripts/format.sh):" >&2
   printf '  %s\n' "${unformatted[@]}" >&2
