@@ -84,20 +84,20 @@ inline std::vector<BodyId> add_loose_pile(World& world) {
 
 // What happens to that pile on the way, before step `step`: a push off
 // centre at step 600, a removal at step 900.
-//
-// How many steps the determinism tests run it: 10 s at full speed, past
-// the push and the removal. A sanitizer build runs the same code five to
-// twenty times slower and finds its races and bad accesses in the first
+inline void disturb_loose_pile(World& world, const std::vector<BodyId>& ids, int step) {
+  if (step == 600)
+    world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
+  if (step == 900) world.remove_body(ids[17]);
+}
+
+// How many steps the determinism tests run that pile: 10 s at full speed,
+// past the push and the removal. A sanitizer build runs the same code five
+// to twenty times slower and finds its races and bad accesses in the first
 // seconds as well, so there it stops at 4 s, still past both.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 inline constexpr int kLoosePileSteps = 4 * 240;
 #else
 inline constexpr int kLoosePileSteps = 10 * 240;
 #endif
-inline void disturb_loose_pile(World& world, const std::vector<BodyId>& ids, int step) {
-  if (step == 600)
-    world.apply_impulse_at_point(ids[42], Vec3(2.0, 1.0, 0.0), world.position(ids[42]) + Vec3::UnitY() * 0.5);
-  if (step == 900) world.remove_body(ids[17]);
-}
 
 }  // namespace tumble::physics::testing
