@@ -29,7 +29,7 @@ while [[ "${1:-}" == --* ]]; do
 done
 
 packages=(
-  build-essential cmake ninja-build pkg-config ccache clang-format
+  build-essential cmake ninja-build pkg-config ccache lld clang-format
   libeigen3-dev libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev
   nlohmann-json3-dev libcli11-dev
   googletest libgtest-dev libgmock-dev libbenchmark-dev
