@@ -6,9 +6,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 extern char** environ;
@@ -59,11 +64,46 @@ pid_t spawn(const std::vector<std::string>& argv, const std::string& out_path, c
   return pid;
 }
 
+// The one directory under $TMPDIR (or /tmp) that holds every scratch
+// directory of this test program, made on first use. After the last test
+// it is removed with everything in it when every test passed, and kept,
+// with its path printed, when one failed: the servers' logs are in it.
+class ScratchRoot : public ::testing::Environment {
+ public:
+  const std::string& path() {
+    if (path_.empty()) {
+      const char* base = std::getenv("TMPDIR");
+      std::string pattern = std::string(base ? base : "/tmp") + "/tumble-test-XXXXXX";
+      if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
+    }
+    return path_;
+  }
+
+  void TearDown() override {
+    if (path_.empty()) return;
+    if (!::testing::UnitTest::GetInstance()->Passed()) {
+      std::cerr << "the failed run's files are kept in " << path_ << "\n";
+      return;
+    }
+    // A child that outlives its test may still be writing: what it leaves
+    // is not worth failing the run for.
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+
+ private:
+  std::string path_;
+};
+
+// gtest owns the environment and runs its TearDown after the last test.
+ScratchRoot* const scratch_root = static_cast<ScratchRoot*>(::testing::AddGlobalTestEnvironment(new ScratchRoot));
+
 }  // namespace
 
 std::string make_temp_dir() {
-  const char* base = std::getenv("TMPDIR");
-  std::string pattern = std::string(base ? base : "/tmp") + "/tumble-test-XXXXXX";
+  const std::string& root = scratch_root->path();
+  if (root.empty()) return "/tmp";
+  std::string pattern = root + "/XXXXXX";
   if (::mkdtemp(pattern.data()) == nullptr) return "/tmp";
   return pattern;
 }

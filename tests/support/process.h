@@ -54,7 +54,9 @@ class ChildProcess {
   std::optional<int> exit_code_;
 };
 
-// A unique scratch directory under the system's temporary directory.
+// A unique scratch directory under the system's temporary directory, in
+// one root for the whole test program that is removed after the last test
+// when all passed and kept, its path printed, when one failed.
 std::string make_temp_dir();
 
 // The contents of a file, or "" if it cannot be read.
