@@ -21,6 +21,8 @@
 #                     nats and physics-threads; target threaded_tests),
 #                     without the slow ones and the browser's.
 # A sanitizer's report, or a failed assertion, fails the test it comes from.
+#
+# BUILD_ONLY=1 installs and builds what the run would test, and stops there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -64,4 +66,5 @@ case "${SANITIZE:-}" in
     exit 2
     ;;
 esac
+[[ "${BUILD_ONLY:-0}" == 1 ]] && exit 0
 ctest --test-dir "$build_dir" "${ctest_args[@]}" "$@"
