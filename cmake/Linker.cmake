@@ -1,7 +1,7 @@
 # TUMBLE_LLD (default ON): link with LLVM's lld when the compiler can. The
-# executables of the sanitizer builds are large; lld links one in about a
-# third of GNU ld's time (docs/development.md "Builds"), and linking is
-# most of what a build does once ccache has the objects.
+# executables of the sanitizer builds are large, lld links them much faster
+# than GNU ld (docs/development.md "Builds"), and linking is most of what a
+# build does once ccache has the objects.
 include(CheckLinkerFlag)
 option(TUMBLE_LLD "Link with lld when it is installed" ON)
 if(TUMBLE_LLD)

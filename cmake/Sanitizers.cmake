@@ -22,11 +22,11 @@ if(TUMBLE_SANITIZE)
   add_compile_options(${_flags})
   add_link_options(-fsanitize=${TUMBLE_SANITIZE})
   # An instrumented program is position-independent by default, and its
-  # globals' metadata makes a million relative relocations that the loader
-  # applies at every start: 0.2 s of each of the thousands of test and
+  # globals' metadata makes about a million relative relocations that the
+  # loader applies at every start, in each of the thousands of test and
   # server processes a run of the suite starts. Linked at a fixed address it
-  # starts in 0.12 s (docs/development.md "Sanitizers"). ThreadSanitizer's
-  # programs start quickly and stay position-independent.
+  # has none (docs/development.md "Sanitizers"). ThreadSanitizer's programs
+  # start quickly and stay position-independent.
   if(TUMBLE_SANITIZE MATCHES "address")
     add_link_options(-no-pie)
   endif()
