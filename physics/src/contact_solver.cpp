@@ -288,6 +288,7 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     const JointConstraint& j = joint_constraints[index];
     prepare_joint_row(joints_[j.joint], j.body_a, j.body_b, joint_slots_[index].a, joint_slots_[index].b, bodies_,
                       joint_settings_, rows[k]);
+    measure_joint(rows[k], slots);
   }
 
   const float share = 1.0f / static_cast<float>(settings_.substeps);
@@ -312,6 +313,7 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
         slots[s].rotation[i] += h * slots[s].angular[i];
       }
     }
+    for (JointRow& row : rows) measure_joint(row, slots);
     for (int i = 0; i < settings_.relax_iterations; ++i) {
       solve_joints(group, false);
       solve_pass(group, false);
@@ -321,7 +323,7 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
   apply_restitution(group);
   store_impulses(group);
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {
-    store_joint(rows[k], slots, joint_settings_, joints_[joint_constraints[group.first_joint + k].joint]);
+    store_joint(rows[k], joint_settings_, joints_[joint_constraints[group.first_joint + k].joint]);
   }
 
   // Back to double precision: the solve's change of each dynamic body's

@@ -44,30 +44,7 @@ void save(const JointRow& row, const Velocities& v, SolverBody* slots) {
   }
 }
 
-// The joint now: anchors and frames turned by each body's rotation so far,
-// and d, anchor B minus anchor A (joint_solver.h, "Geometry").
-struct Geometry {
-  Vec3 anchor_a, anchor_b;
-  Mat3 frame_a, frame_b;  // columns: the frame's x, y, z axes in the world
-  Vec3 d;
-};
-
-Geometry geometry_now(const JointRow& row, const SolverBody* slots) {
-  const SolverBody& a = slots[row.slot_a];
-  const SolverBody& b = slots[row.slot_b];
-  // The slot of zeros (a static body or the world) has not turned.
-  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(a.rotation));
-  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(b.rotation));
-  Geometry g;
-  g.anchor_a = turn_a * row.anchor_a;
-  g.anchor_b = turn_b * row.anchor_b;
-  if (row.frames) {
-    g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
-    g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
-  }
-  g.d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
-  return g;
-}
+using Geometry = JointGeometry;
 
 // One scalar row: Cdot = linear.(v_b - v_a) + angular_b.w_b - angular_a.w_a.
 struct Jacobian {
@@ -278,23 +255,6 @@ void solve_slider_line(const JointRow& row, const Geometry& g, const JointStepSe
   apply(row, j2, lambda.y(), v);
 }
 
-// The hinge angle: frame B's y axis against frame A's, about A's x axis.
-double hinge_angle(const Geometry& g) {
-  const Vec3 ya = g.frame_a.col(1), yb = g.frame_b.col(1);
-  return std::atan2(ya.cross(yb).dot(g.frame_a.col(0)), ya.dot(yb));
-}
-
-// The ball joint's cone: the angle between the frames' x axes and the
-// axis it grows about; false when the axes (nearly) agree.
-bool cone_axis(const Geometry& g, double* angle, Vec3* axis) {
-  const Vec3 n = g.frame_a.col(0).cross(g.frame_b.col(0));
-  const double s = n.norm();
-  *angle = std::atan2(s, g.frame_a.col(0).dot(g.frame_b.col(0)));
-  if (s < 1e-9) return false;
-  *axis = n / s;
-  return true;
-}
-
 // The rows along the joint's free direction (hinge: about a_A; slider:
 // along it): friction, motor, then the limits.
 void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double position, bool angular,
@@ -321,6 +281,34 @@ double axial_impulse(const JointImpulses& impulses) {
 }
 
 }  // namespace
+
+void measure_joint(JointRow& row, const SolverBody* slots) {
+  const SolverBody& a = slots[row.slot_a];
+  const SolverBody& b = slots[row.slot_b];
+  // The slot of zeros (a static body or the world) has not turned.
+  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(a.rotation));
+  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(b.rotation));
+  Geometry& g = row.geometry;
+  g.anchor_a = turn_a * row.anchor_a;
+  g.anchor_b = turn_b * row.anchor_b;
+  g.d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
+  g.cone_axis_valid = false;
+  if (!row.frames) return;
+  g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
+  g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
+  if (row.type == JointType::hinge) {
+    // Frame B's y axis against frame A's, about A's x axis.
+    const Vec3 ya = g.frame_a.col(1), yb = g.frame_b.col(1);
+    g.angle = std::atan2(ya.cross(yb).dot(g.frame_a.col(0)), ya.dot(yb));
+  } else if (row.type == JointType::ball) {
+    // The cone: the angle between the frames' x axes, about their normal.
+    const Vec3 n = g.frame_a.col(0).cross(g.frame_b.col(0));
+    const double s = n.norm();
+    g.angle = std::atan2(s, g.frame_a.col(0).dot(g.frame_b.col(0)));
+    g.cone_axis_valid = s >= 1e-9;
+    if (g.cone_axis_valid) g.cone_axis = n / s;
+  }
+}
 
 void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t body_b, std::uint32_t slot_a,
                        std::uint32_t slot_b, const ContactSolverBodies& bodies, const JointStepSettings& settings,
@@ -370,14 +358,12 @@ void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t b
 }
 
 void warm_start_joint(const JointRow& row, SolverBody* slots) {
-  const Geometry g = geometry_now(row, slots);
+  const Geometry& g = row.geometry;
   Velocities v = load(row, slots);
   const JointImpulses& impulses = row.impulses;
   switch (row.type) {
     case JointType::ball: {
-      double angle;
-      Vec3 axis;
-      const Vec3 cone = row.frames && cone_axis(g, &angle, &axis) ? Vec3(-impulses.lower * axis) : Vec3::Zero();
+      const Vec3 cone = g.cone_axis_valid ? Vec3(-impulses.lower * g.cone_axis) : Vec3::Zero();
       apply(row, impulses.linear, g.anchor_a, g.anchor_b, cone + impulses.friction, v);
       break;
     }
@@ -410,23 +396,21 @@ void warm_start_joint(const JointRow& row, SolverBody* slots) {
 
 void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const JointStepSettings& settings, bool soft) {
   const JointDesc& desc = joint.desc;
-  const Geometry g = geometry_now(row, slots);
+  const Geometry& g = row.geometry;
   Velocities v = load(row, slots);
   JointImpulses& impulses = row.impulses;
   switch (row.type) {
     case JointType::ball: {
-      double angle;
-      Vec3 axis;
       if (desc.friction > 0) solve_ball_friction(row, desc.friction, settings, impulses.friction, v);
-      if (std::isfinite(desc.cone_limit) && cone_axis(g, &angle, &axis)) {
+      if (g.cone_axis_valid) {
         // C = cone - phi >= 0 with dphi/dt = axis.(w_b - w_a).
-        solve_one_sided(row, angular_row(-axis), desc.cone_limit - angle, impulses.lower, settings, soft, v);
+        solve_one_sided(row, angular_row(-g.cone_axis), desc.cone_limit - g.angle, impulses.lower, settings, soft, v);
       }
       solve_point(row, g, settings, soft, impulses.linear, v);
       break;
     }
     case JointType::hinge:
-      solve_axial(row, desc, angular_row(g.frame_a.col(0)), hinge_angle(g), true, settings, soft, v);
+      solve_axial(row, desc, angular_row(g.frame_a.col(0)), g.angle, true, settings, soft, v);
       solve_hinge_alignment(row, g, settings, soft, impulses.angular, v);
       solve_point(row, g, settings, soft, impulses.linear, v);
       break;
@@ -458,19 +442,16 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
   save(row, v, slots);
 }
 
-void store_joint(const JointRow& row, const SolverBody* slots, const JointStepSettings& settings, Joint& joint) {
-  const Geometry g = geometry_now(row, slots);
+void store_joint(const JointRow& row, const JointStepSettings& settings, Joint& joint) {
+  const Geometry& g = row.geometry;
   const JointImpulses& impulses = row.impulses;
   Vec3 linear = Vec3::Zero(), angular = Vec3::Zero();
   switch (row.type) {
-    case JointType::ball: {
-      double angle;
-      Vec3 axis;
+    case JointType::ball:
       linear = impulses.linear;
       angular = impulses.friction;
-      if (row.frames && cone_axis(g, &angle, &axis)) angular -= impulses.lower * axis;
+      if (g.cone_axis_valid) angular -= impulses.lower * g.cone_axis;
       break;
-    }
     case JointType::hinge: {
       const Vec3 axis = g.frame_a.col(0);
       linear = impulses.linear;

@@ -39,6 +39,10 @@
 // joint_damping_ratio); springs and motors act in every pass, as physical
 // forces do.
 //
+// The geometry moves only when the bodies do, in the substep's move: it is
+// measured at the start of the step and after each move, and every pass
+// between two moves reads that measure.
+//
 // Thread: a row is touched only by the task that solves its group.
 #pragma once
 
@@ -69,6 +73,23 @@ struct JointStepSettings {
   double inverse_h = 0;
 };
 
+// The joint as the bodies have moved so far (joint_solver.h, "Geometry"):
+// anchors and frames turned by each body's rotation, d = anchor B minus
+// anchor A, and the angles its rows measure from the frames.
+struct JointGeometry {
+  Vec3 anchor_a = Vec3::Zero();
+  Vec3 anchor_b = Vec3::Zero();
+  Mat3 frame_a = Mat3::Identity();  // columns: the frame's x, y, z axes in the world
+  Mat3 frame_b = Mat3::Identity();
+  Vec3 d = Vec3::Zero();
+  // A hinge's angle (rad); a ball joint's cone angle between the frames'
+  // x axes (rad) and the axis it grows about, when cone_axis_valid (the
+  // axes do not nearly agree).
+  double angle = 0;
+  Vec3 cone_axis = Vec3::Zero();
+  bool cone_axis_valid = false;
+};
+
 // One joint during a step, built at the start of its group's solve: its
 // slots in the group, its bodies' step constants, its geometry at the
 // start of the step and its impulses.
@@ -95,7 +116,8 @@ struct JointRow {
   Softness motor_soft;   // a position motor's spring
   Softness spring_soft;  // a distance joint's spring
   JointImpulses impulses;
-  double motor_sum = 0;  // the motor's impulse over the substeps so far
+  double motor_sum = 0;    // the motor's impulse over the substeps so far
+  JointGeometry geometry;  // as of the last move
 };
 
 // Builds row from joint, whose bodies are at dense indices body_a, body_b
@@ -103,6 +125,9 @@ struct JointRow {
 void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t body_b, std::uint32_t slot_a,
                        std::uint32_t slot_b, const ContactSolverBodies& bodies, const JointStepSettings& settings,
                        JointRow& row);
+// Measures row.geometry from the slots' motion so far: after
+// prepare_joint_row and after each move of the bodies.
+void measure_joint(JointRow& row, const SolverBody* slots);
 // Applies the accumulated impulses again (a substep's warm start).
 void warm_start_joint(const JointRow& row, SolverBody* slots);
 // One pass over the joint's rows: soft (with the position terms) or relax.
@@ -111,6 +136,6 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
 inline void end_joint_substep(JointRow& row) { row.motor_sum += row.impulses.motor; }
 // After the substeps: stores the impulses in the joint for the next step's
 // warm start, and its force, torque and motor impulse over the step.
-void store_joint(const JointRow& row, const SolverBody* slots, const JointStepSettings& settings, Joint& joint);
+void store_joint(const JointRow& row, const JointStepSettings& settings, Joint& joint);
 
 }  // namespace tumble::physics
