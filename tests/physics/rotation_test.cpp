@@ -19,7 +19,9 @@ TEST(RotationTest, ZeroRotationVectorIsIdentity) {
 
 TEST(RotationTest, MatchesAxisAngleAtAllScales) {
   const Vec3 axis = Vec3(0.3, -0.8, 0.5).normalized();
-  for (double angle : {1e-9, 1e-5, 9.9e-5, 1.01e-4, 1e-3, 0.1, 1.0, 3.0, std::numbers::pi, 5.0, 12.0}) {
+  // Both sides of 1e-4 and of 0.5 rad, where the series give way to sin and cos.
+  for (double angle :
+       {1e-9, 1e-5, 9.9e-5, 1.01e-4, 1e-3, 0.1, 0.3, 0.4999, 0.5, 0.5001, 1.0, 3.0, std::numbers::pi, 5.0, 12.0}) {
     const Quat q = quat_from_rotation_vector(angle * axis);
     const Quat expected(Eigen::AngleAxisd(angle, axis));
     EXPECT_NEAR(q.w(), expected.w(), 1e-15) << "angle " << angle;
