@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "rotation.h"
+
 namespace tumble::physics {
 namespace {
 
@@ -70,6 +72,7 @@ void ContactSolver::reserve(std::size_t constraints) {
   wide_points_.reserve(kMaxManifoldPoints * constraints);
   solver_bodies_.reserve(2 * constraints);
   solver_external_.reserve(2 * constraints);
+  slot_turns_.reserve(2 * constraints);
   slot_body_.reserve(2 * constraints);
 }
 
@@ -282,13 +285,15 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
 
   // The joints' rows, on the same slots.
   const std::span<JointRow> rows(joint_rows_.data() + group.first_joint, group.joint_count);
+  Quat* turns = slot_turns_.data() + group.first_slot;
+  if (!rows.empty()) std::fill(turns, turns + group.slot_count, Quat::Identity());
   const std::span<const JointConstraint> joint_constraints = islands_.joints();
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {
     const std::uint32_t index = group.first_joint + k;
     const JointConstraint& j = joint_constraints[index];
     prepare_joint_row(joints_[j.joint], j.body_a, j.body_b, joint_slots_[index].a, joint_slots_[index].b, bodies_,
                       joint_settings_, rows[k]);
-    measure_joint(rows[k], slots);
+    measure_joint(rows[k], slots, turns);
   }
 
   const float share = 1.0f / static_cast<float>(settings_.substeps);
@@ -313,7 +318,12 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
         slots[s].rotation[i] += h * slots[s].angular[i];
       }
     }
-    for (JointRow& row : rows) measure_joint(row, slots);
+    if (!rows.empty()) {
+      for (std::uint32_t s = 1; s < group.slot_count; ++s) {
+        turns[s] = quat_from_rotation_vector(load_vec3(slots[s].rotation));
+      }
+    }
+    for (JointRow& row : rows) measure_joint(row, slots, turns);
     for (int i = 0; i < settings_.relax_iterations; ++i) {
       solve_joints(group, false);
       solve_pass(group, false);

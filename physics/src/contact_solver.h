@@ -172,6 +172,9 @@ class ContactSolver {
   std::vector<std::uint32_t> group_order_;  // groups by falling point count: the order a team's tasks start
   std::vector<SolverBody> solver_bodies_;
   std::vector<SolverBody> solver_external_;  // each slot's change of v and w over the step (linear, angular)
+  // Each slot's turn so far in the step, exp(rotation), for its joints:
+  // measured once after each move rather than once per joint of the body.
+  std::vector<Quat> slot_turns_;
   std::vector<WideConstraint> wide_;
   std::vector<WidePoint> wide_points_;
   std::vector<Motion> motion_;  // by dense body, written by solve() for the touched bodies

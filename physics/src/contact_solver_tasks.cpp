@@ -51,6 +51,7 @@ void ContactSolver::solve(std::span<SolverVelocity> velocities, TaskSystem* team
   if (solver_bodies_.size() < slot_count_) {
     solver_bodies_.resize(slot_count_);
     solver_external_.resize(slot_count_);
+    slot_turns_.resize(slot_count_);
   }
   if (wide_points_.size() < wide_point_count_) wide_points_.resize(wide_point_count_);
 

@@ -8,8 +8,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "rotation.h"
-
 namespace tumble::physics {
 namespace {
 
@@ -106,7 +104,7 @@ Correction correction(const JointStepSettings& settings, bool soft) {
 // C > 0 the bodies may close the gap within the substep (speculative);
 // while violated it is pushed back softly in a soft pass and held rigidly
 // in a relax pass. The accumulated impulse stays >= 0.
-void solve_one_sided(const JointRow& row, const Jacobian& j, double c, double& accumulated,
+void solve_one_sided(const JointRow& row, const Jacobian& j, double mass, double c, double& accumulated,
                      const JointStepSettings& settings, bool soft, Velocities& v) {
   double bias = 0, mass_scale = 1, impulse_scale = 0;
   if (c > 0) {
@@ -116,7 +114,12 @@ void solve_one_sided(const JointRow& row, const Jacobian& j, double c, double& a
     mass_scale = settings.joint_soft.mass_scale;
     impulse_scale = settings.joint_soft.impulse_scale;
   }
-  double lambda = -effective_mass(row, j) * mass_scale * (velocity(j, v) + bias) - impulse_scale * accumulated;
+  const double target = velocity(j, v) + bias;
+  // With nothing accumulated the impulse has the sign of -target, and
+  // clamped at zero it is zero: a limit not reached this substep (most
+  // of them, most of the time) costs no more than its velocity.
+  if (accumulated == 0 && target >= 0) return;
+  double lambda = -mass * mass_scale * target - impulse_scale * accumulated;
   const double next = std::max(accumulated + lambda, 0.0);
   lambda = next - accumulated;
   accumulated = next;
@@ -124,28 +127,26 @@ void solve_one_sided(const JointRow& row, const Jacobian& j, double c, double& a
 }
 
 // An equality row C = 0 with the joint spring.
-void solve_rigid(const JointRow& row, const Jacobian& j, double c, double& accumulated,
+void solve_rigid(const JointRow& row, const Jacobian& j, double mass, double c, double& accumulated,
                  const JointStepSettings& settings, bool soft, Velocities& v) {
   const Correction k = correction(settings, soft);
-  const double lambda =
-      -effective_mass(row, j) * k.mass_scale * (velocity(j, v) + k.bias_rate * c) - k.impulse_scale * accumulated;
+  const double lambda = -mass * k.mass_scale * (velocity(j, v) + k.bias_rate * c) - k.impulse_scale * accumulated;
   accumulated += lambda;
   apply(row, j, lambda, v);
 }
 
 // A spring row towards C = 0 with its own softness, in every pass.
-void solve_spring(const JointRow& row, const Jacobian& j, double c, const Softness& spring, double& accumulated,
-                  Velocities& v) {
-  const double lambda = -effective_mass(row, j) * spring.mass_scale * (velocity(j, v) + spring.bias_rate * c) -
-                        spring.impulse_scale * accumulated;
+void solve_spring(const JointRow& row, const Jacobian& j, double mass, double c, const Softness& spring,
+                  double& accumulated, Velocities& v) {
+  const double lambda =
+      -mass * spring.mass_scale * (velocity(j, v) + spring.bias_rate * c) - spring.impulse_scale * accumulated;
   accumulated += lambda;
   apply(row, j, lambda, v);
 }
 
 // The motor of a hinge or slider along j, at `position` (rad or m).
-void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j, double position, bool angular,
-                 const JointStepSettings& settings, double& accumulated, Velocities& v) {
-  const double mass = effective_mass(row, j);
+void solve_motor(const JointRow& row, const JointMotor& motor, const Jacobian& j, double mass, double position,
+                 bool angular, const JointStepSettings& settings, double& accumulated, Velocities& v) {
   const double cdot = velocity(j, v);
   double lambda;
   if (motor.mode == JointMotor::Mode::speed) {
@@ -211,17 +212,12 @@ void solve_hinge_alignment(const JointRow& row, const Geometry& g, const JointSt
                            Vec3& accumulated, Velocities& v) {
   const Vec3 axis = g.frame_a.col(0);
   const Vec3 j1 = g.frame_b.col(1).cross(axis), j2 = g.frame_b.col(2).cross(axis);
-  const Mat3 inverse_inertia = row.inverse_inertia_a + row.inverse_inertia_b;
   const Vec3 dw = v.angular_b - v.angular_a;
-  Eigen::Matrix2d k;
-  k(0, 0) = j1.dot(inverse_inertia * j1);
-  k(0, 1) = k(1, 0) = j1.dot(inverse_inertia * j2);
-  k(1, 1) = j2.dot(inverse_inertia * j2);
   const Eigen::Vector2d c(axis.dot(g.frame_b.col(1)), axis.dot(g.frame_b.col(2)));
   const Eigen::Vector2d cdot(j1.dot(dw), j2.dot(dw));
   const Correction s = correction(settings, soft);
   const Eigen::Vector2d previous(accumulated.x(), accumulated.y());
-  const Eigen::Vector2d lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
+  const Eigen::Vector2d lambda = -s.mass_scale * (g.block_mass * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
   accumulated.x() += lambda.x();
   accumulated.y() += lambda.y();
   const Vec3 l = lambda.x() * j1 + lambda.y() * j2;
@@ -236,19 +232,11 @@ void solve_slider_line(const JointRow& row, const Geometry& g, const JointStepSe
   const Vec3 arm_a = g.anchor_a + g.d;
   const Jacobian j1 = linear_row(g.frame_a.col(1), arm_a, g.anchor_b);
   const Jacobian j2 = linear_row(g.frame_a.col(2), arm_a, g.anchor_b);
-  const double linear_mass = row.inverse_mass_a + row.inverse_mass_b;
-  Eigen::Matrix2d k;
-  k(0, 0) = linear_mass + j1.angular_a.dot(row.inverse_inertia_a * j1.angular_a) +
-            j1.angular_b.dot(row.inverse_inertia_b * j1.angular_b);
-  k(0, 1) = k(1, 0) =
-      j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) + j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
-  k(1, 1) = linear_mass + j2.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
-            j2.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
   const Eigen::Vector2d c(g.d.dot(g.frame_a.col(1)), g.d.dot(g.frame_a.col(2)));
   const Eigen::Vector2d cdot(velocity(j1, v), velocity(j2, v));
   const Correction s = correction(settings, soft);
   const Eigen::Vector2d previous(accumulated.x(), accumulated.y());
-  const Eigen::Vector2d lambda = -s.mass_scale * (k.inverse() * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
+  const Eigen::Vector2d lambda = -s.mass_scale * (g.block_mass * (cdot + s.bias_rate * c)) - s.impulse_scale * previous;
   accumulated.x() += lambda.x();
   accumulated.y() += lambda.y();
   apply(row, j1, lambda.x(), v);
@@ -260,18 +248,19 @@ void solve_slider_line(const JointRow& row, const Geometry& g, const JointStepSe
 void solve_axial(JointRow& row, const JointDesc& desc, const Jacobian& j, double position, bool angular,
                  const JointStepSettings& settings, bool soft, Velocities& v) {
   JointImpulses& impulses = row.impulses;
+  const double mass = row.geometry.axial_mass;
   if (desc.friction > 0) {
     // Coulomb friction on the free direction: a motor of target speed 0
     // whose force is the friction, with its own accumulated impulse.
     const JointMotor still{JointMotor::Mode::speed, 0, desc.friction};
-    solve_motor(row, still, j, position, angular, settings, impulses.friction.x(), v);
+    solve_motor(row, still, j, mass, position, angular, settings, impulses.friction.x(), v);
   }
   if (desc.motor.mode != JointMotor::Mode::off) {
-    solve_motor(row, desc.motor, j, position, angular, settings, impulses.motor, v);
+    solve_motor(row, desc.motor, j, mass, position, angular, settings, impulses.motor, v);
   }
   if (desc.limits_enabled) {
-    solve_one_sided(row, j, position - desc.lower, impulses.lower, settings, soft, v);
-    solve_one_sided(row, -j, desc.upper - position, impulses.upper, settings, soft, v);
+    solve_one_sided(row, j, mass, position - desc.lower, impulses.lower, settings, soft, v);
+    solve_one_sided(row, -j, mass, desc.upper - position, impulses.upper, settings, soft, v);
   }
 }
 
@@ -282,31 +271,63 @@ double axial_impulse(const JointImpulses& impulses) {
 
 }  // namespace
 
-void measure_joint(JointRow& row, const SolverBody* slots) {
+void measure_joint(JointRow& row, const SolverBody* slots, const Quat* turns) {
   const SolverBody& a = slots[row.slot_a];
   const SolverBody& b = slots[row.slot_b];
-  // The slot of zeros (a static body or the world) has not turned.
-  const Quat turn_a = row.slot_a == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(a.rotation));
-  const Quat turn_b = row.slot_b == 0 ? Quat::Identity() : quat_from_rotation_vector(load_vec3(b.rotation));
+  const Quat& turn_a = turns[row.slot_a];
+  const Quat& turn_b = turns[row.slot_b];
   Geometry& g = row.geometry;
   g.anchor_a = turn_a * row.anchor_a;
   g.anchor_b = turn_b * row.anchor_b;
   g.d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
   g.cone_axis_valid = false;
+  if (row.type == JointType::distance) {
+    const double length = g.d.norm();
+    if (length >= 1e-12) g.axial_mass = effective_mass(row, linear_row(g.d / length, g.anchor_a, g.anchor_b));
+  }
   if (!row.frames) return;
   g.frame_a = (turn_a * row.frame_a).toRotationMatrix();
   g.frame_b = (turn_b * row.frame_b).toRotationMatrix();
+  const Vec3 axis = g.frame_a.col(0);
   if (row.type == JointType::hinge) {
     // Frame B's y axis against frame A's, about A's x axis.
     const Vec3 ya = g.frame_a.col(1), yb = g.frame_b.col(1);
-    g.angle = std::atan2(ya.cross(yb).dot(g.frame_a.col(0)), ya.dot(yb));
+    g.angle = std::atan2(ya.cross(yb).dot(axis), ya.dot(yb));
+    g.axial_mass = effective_mass(row, angular_row(axis));
+    // The alignment rows' K = J (I_a^-1 + I_b^-1) J^T for J's rows
+    // j_1 = b_B x a_A, j_2 = c_B x a_A.
+    const Mat3 inverse_inertia = row.inverse_inertia_a + row.inverse_inertia_b;
+    const Vec3 j1 = g.frame_b.col(1).cross(axis), j2 = g.frame_b.col(2).cross(axis);
+    Eigen::Matrix2d k;
+    k(0, 0) = j1.dot(inverse_inertia * j1);
+    k(0, 1) = k(1, 0) = j1.dot(inverse_inertia * j2);
+    k(1, 1) = j2.dot(inverse_inertia * j2);
+    g.block_mass = k.inverse();
   } else if (row.type == JointType::ball) {
     // The cone: the angle between the frames' x axes, about their normal.
-    const Vec3 n = g.frame_a.col(0).cross(g.frame_b.col(0));
+    const Vec3 n = axis.cross(g.frame_b.col(0));
     const double s = n.norm();
-    g.angle = std::atan2(s, g.frame_a.col(0).dot(g.frame_b.col(0)));
+    g.angle = std::atan2(s, axis.dot(g.frame_b.col(0)));
     g.cone_axis_valid = s >= 1e-9;
-    if (g.cone_axis_valid) g.cone_axis = n / s;
+    if (g.cone_axis_valid) {
+      g.cone_axis = n / s;
+      g.axial_mass = effective_mass(row, angular_row(g.cone_axis));
+    }
+  } else if (row.type == JointType::slider) {
+    const Vec3 arm_a = g.anchor_a + g.d;
+    g.axial_mass = effective_mass(row, linear_row(axis, arm_a, g.anchor_b));
+    // The line rows' 2x2 K for n_1, n_2 = frame A's y and z axes.
+    const Jacobian j1 = linear_row(g.frame_a.col(1), arm_a, g.anchor_b);
+    const Jacobian j2 = linear_row(g.frame_a.col(2), arm_a, g.anchor_b);
+    const double linear_mass = row.inverse_mass_a + row.inverse_mass_b;
+    Eigen::Matrix2d k;
+    k(0, 0) = linear_mass + j1.angular_a.dot(row.inverse_inertia_a * j1.angular_a) +
+              j1.angular_b.dot(row.inverse_inertia_b * j1.angular_b);
+    k(0, 1) = k(1, 0) =
+        j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) + j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
+    k(1, 1) = linear_mass + j2.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
+              j2.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
+    g.block_mass = k.inverse();
   }
 }
 
@@ -404,7 +425,8 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
       if (desc.friction > 0) solve_ball_friction(row, desc.friction, settings, impulses.friction, v);
       if (g.cone_axis_valid) {
         // C = cone - phi >= 0 with dphi/dt = axis.(w_b - w_a).
-        solve_one_sided(row, angular_row(-g.cone_axis), desc.cone_limit - g.angle, impulses.lower, settings, soft, v);
+        solve_one_sided(row, angular_row(-g.cone_axis), g.axial_mass, desc.cone_limit - g.angle, impulses.lower,
+                        settings, soft, v);
       }
       solve_point(row, g, settings, soft, impulses.linear, v);
       break;
@@ -429,13 +451,14 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
       const double length = g.d.norm();
       if (length < 1e-12) break;  // no direction to act along
       const Jacobian j = linear_row(g.d / length, g.anchor_a, g.anchor_b);
+      const double mass = g.axial_mass;
       if (desc.min_length == desc.max_length) {
-        solve_rigid(row, j, length - desc.length, impulses.linear.x(), settings, soft, v);
+        solve_rigid(row, j, mass, length - desc.length, impulses.linear.x(), settings, soft, v);
         break;
       }
-      if (desc.spring_hertz > 0) solve_spring(row, j, length - desc.length, row.spring_soft, impulses.spring, v);
-      solve_one_sided(row, j, length - desc.min_length, impulses.lower, settings, soft, v);
-      solve_one_sided(row, -j, desc.max_length - length, impulses.upper, settings, soft, v);
+      if (desc.spring_hertz > 0) solve_spring(row, j, mass, length - desc.length, row.spring_soft, impulses.spring, v);
+      solve_one_sided(row, j, mass, length - desc.min_length, impulses.lower, settings, soft, v);
+      solve_one_sided(row, -j, mass, desc.max_length - length, impulses.upper, settings, soft, v);
       break;
     }
   }

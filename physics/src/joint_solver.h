@@ -88,6 +88,13 @@ struct JointGeometry {
   double angle = 0;
   Vec3 cone_axis = Vec3::Zero();
   bool cone_axis_valid = false;
+  // 1 / (J M^-1 J^T) of the rows along the joint's free direction, which
+  // share their Jacobian: a hinge's axis, a ball joint's cone axis, a
+  // slider's axis, a distance joint's line.
+  double axial_mass = 0;
+  // The inverse of the 2x2 block K of a hinge's alignment rows or a
+  // slider's line rows.
+  Eigen::Matrix2d block_mass = Eigen::Matrix2d::Zero();
 };
 
 // One joint during a step, built at the start of its group's solve: its
@@ -125,9 +132,10 @@ struct JointRow {
 void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t body_b, std::uint32_t slot_a,
                        std::uint32_t slot_b, const ContactSolverBodies& bodies, const JointStepSettings& settings,
                        JointRow& row);
-// Measures row.geometry from the slots' motion so far: after
-// prepare_joint_row and after each move of the bodies.
-void measure_joint(JointRow& row, const SolverBody* slots);
+// Measures row.geometry from the slots' motion so far, with turns[s] the
+// rotation of slot s so far (exp of its rotation vector; identity for the
+// slot of zeros): after prepare_joint_row and after each move of the bodies.
+void measure_joint(JointRow& row, const SolverBody* slots, const Quat* turns);
 // Applies the accumulated impulses again (a substep's warm start).
 void warm_start_joint(const JointRow& row, SolverBody* slots);
 // One pass over the joint's rows: soft (with the position terms) or relax.
