@@ -3,9 +3,10 @@
 // An island is a set of dynamic bodies connected by contacts with manifold
 // points and by joints; static and kinematic bodies do not connect islands (a floor
 // under two separate piles keeps them separate). Each step every awake
-// dynamic body accumulates the time it has been slow; an island whose
-// bodies have all been slow for time_to_sleep, and that touches something,
-// falls asleep as a whole: its bodies stop being integrated and their
+// dynamic body counts the time it has stayed still: near the pose where
+// the count started, and not speeding up (SleepProgress). An island whose
+// bodies have all been still for time_to_sleep, are all slower than the
+// sleep speed, and that touches something, falls asleep as a whole: its bodies stop being integrated and their
 // contacts are neither updated nor solved. Anything that disturbs one of its
 // bodies wakes the whole island (Catto, "Box2D" b2Island; Baraff's notes
 // leave sleeping out). The islands of a step are built once, by the contact
@@ -17,22 +18,66 @@
 
 namespace tumble::physics {
 
+namespace {
+
+// A body speeding up steadily is leaving rest, however slow it still is:
+// one tipping over an edge it was balanced on gains speed as
+// exp(sqrt(m g r / I) t) from almost nothing (an inverted pendulum), and
+// stays below the sleep speed for most of a second. Its speed has then
+// risen for kRisingSteps steps in a row, by kRiseFactor or more, to at
+// least kRiseFloor of the sleep speed; a settled pile's jitter does not
+// rise for that long.
+constexpr std::uint32_t kRisingSteps = 10;
+constexpr double kRiseFactor = 1.5;
+constexpr double kRiseFloor = 0.1;
+
+}  // namespace
+
+bool World::Impl::accelerating(const SleepProgress& sleep) const {
+  return sleep.rising_steps >= kRisingSteps && sleep.last_speed >= kRiseFloor * settings_.sleep_speed &&
+         sleep.last_speed >= kRiseFactor * sleep.rise_start_speed;
+}
+
+bool World::Impl::ready_to_sleep(const BodyRecord& record) const {
+  return record.sleep.time >= settings_.time_to_sleep && record.sleep.last_speed < settings_.sleep_speed;
+}
+
 void World::Impl::update_sleep(double dt) {
   if (!settings_.sleep_enabled) return;
   const double time_to_sleep = settings_.time_to_sleep;
+  // Still means within this reach of where the count started over the
+  // whole of time_to_sleep: the distance a body at half the sleep speed
+  // covers in it. A pile's jitter moves its bodies back and forth by far
+  // less, and a single fast step does not restart the count (a body that
+  // creeps, or has moved, does).
+  const double max_movement = 0.5 * settings_.sleep_speed * time_to_sleep;
   bool any_ready = false;
   for (std::size_t i = 0; i < records_.size(); ++i) {
     if (!awake_[i]) continue;
     BodyRecord& record = records_[i];
     if (record.motion_type != MotionType::dynamic_body) continue;
+    SleepProgress& sleep = record.sleep;
     const SolverVelocity& v = velocities_[i];
     const double speed = std::max(v.linear.norm(), v.angular.norm() * record.bounding_radius);
-    if (speed < settings_.sleep_speed) {
-      record.sleep_time += dt;
-      any_ready = any_ready || record.sleep_time >= time_to_sleep;
+    if (speed > sleep.last_speed) {
+      if (sleep.rising_steps++ == 0) sleep.rise_start_speed = sleep.last_speed;
     } else {
-      record.sleep_time = 0;
+      sleep.rising_steps = 0;
     }
+    sleep.last_speed = speed;
+    const BodyState& state = states_[i];
+    // The turn since the count started, as the chord 2 |vec(q q_rest^-1)|
+    // (at most the angle), carried out to the bounding radius.
+    const double turned = 2.0 * (state.orientation * sleep.rest_orientation.conjugate()).vec().norm();
+    const double moved = std::max((state.position - sleep.rest_position).norm(), turned * record.bounding_radius);
+    if (moved > max_movement || accelerating(sleep)) {
+      sleep.time = 0;
+      sleep.rest_position = state.position;
+      sleep.rest_orientation = state.orientation;
+      continue;
+    }
+    sleep.time += dt;
+    any_ready = any_ready || ready_to_sleep(record);
   }
   if (!any_ready) return;
 
@@ -50,8 +95,8 @@ void World::Impl::update_sleep(double dt) {
   };
   for (const ContactIsland& island : islands.islands()) {
     const std::span<const std::uint32_t> members = bodies.subspan(island.first_body, island.body_count);
-    bool can_sleep = std::all_of(members.begin(), members.end(),
-                                 [&](std::uint32_t body) { return records_[body].sleep_time >= time_to_sleep; });
+    bool can_sleep =
+        std::all_of(members.begin(), members.end(), [&](std::uint32_t body) { return ready_to_sleep(records_[body]); });
     for (std::uint32_t k = 0; can_sleep && k < island.constraint_count; ++k) {
       const ContactConstraint& c = constraints[island.first_constraint + k];
       can_sleep = !moving_kinematic(c.body_a) && !moving_kinematic(c.body_b);
@@ -86,7 +131,7 @@ void World::Impl::wake_island(std::uint32_t body) {
     const std::uint32_t i = island_stack_.back();
     island_stack_.pop_back();
     BodyRecord& record = records_[i];
-    record.sleep_time = 0;
+    record.sleep = SleepProgress{0, states_[i].position, states_[i].orientation};
     record.reach = 0;
     external_[i] = SolverVelocity{};
     refresh_solver_data(i);

@@ -166,6 +166,8 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   BodyRecord record;
   record.motion_type = motion;
   record.bounding_radius = bounding_radius_of(desc.shape);
+  record.sleep.rest_position = state.position;
+  record.sleep.rest_orientation = state.orientation;
   if (motion == MotionType::kinematic_body) {
     record.kinematic_linear_velocity = desc.linear_velocity;
     record.kinematic_angular_velocity = desc.angular_velocity;
@@ -444,7 +446,7 @@ void World::Impl::set_next_body_id(BodyId next) {
 }
 
 void World::Impl::restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
-                                const Vec3& angular_momentum, bool awake, double sleep_time) {
+                                const Vec3& angular_momentum, bool awake, const SleepProgress& sleep) {
   const std::uint32_t i = static_cast<std::uint32_t>(dense_index(id));
   BodyState& state = states_[i];
   // Taken as given, not re-normalised: normalising a unit quaternion again
@@ -456,17 +458,16 @@ void World::Impl::restore_state(BodyId id, const Vec3& position, const Quat& ori
     state.angular_momentum = angular_momentum;
     if (awake) {
       wake_island(i);
-      records_[i].sleep_time = sleep_time;
     } else {
       put_to_sleep(i);
-      records_[i].sleep_time = sleep_time;
     }
+    records_[i].sleep = sleep;
   }
   refresh_solver_data(i);
   set_box(i, shape_aabb(i));
 }
 
-double World::Impl::sleep_time(BodyId id) const { return records_[dense_index(id)].sleep_time; }
+SleepProgress World::Impl::sleep_progress(BodyId id) const { return records_[dense_index(id)].sleep; }
 
 void World::Impl::wake(BodyId id) { wake_island(static_cast<std::uint32_t>(dense_index(id))); }
 

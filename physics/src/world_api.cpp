@@ -24,10 +24,10 @@ BodyId World::add_body_with_id(const BodyDesc& desc, BodyId id) { return impl_->
 BodyId World::next_body_id() const { return impl_->next_body_id(); }
 void World::set_next_body_id(BodyId next) { impl_->set_next_body_id(next); }
 void World::restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
-                          const Vec3& angular_momentum, bool awake, double sleep_time) {
-  impl_->restore_state(id, position, orientation, linear_momentum, angular_momentum, awake, sleep_time);
+                          const Vec3& angular_momentum, bool awake, const SleepProgress& sleep) {
+  impl_->restore_state(id, position, orientation, linear_momentum, angular_momentum, awake, sleep);
 }
-double World::sleep_time(BodyId id) const { return impl_->sleep_time(id); }
+SleepProgress World::sleep_progress(BodyId id) const { return impl_->sleep_progress(id); }
 bool World::remove_body(BodyId id) { return impl_->remove_body(id); }
 bool World::contains(BodyId id) const { return impl_->contains(id); }
 std::size_t World::body_count() const { return impl_->body_count(); }

@@ -45,8 +45,8 @@ class World::Impl {
   BodyId next_body_id() const { return static_cast<BodyId>(id_to_dense_.size()); }
   void set_next_body_id(BodyId next);
   void restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
-                     const Vec3& angular_momentum, bool awake, double sleep_time);
-  double sleep_time(BodyId id) const;
+                     const Vec3& angular_momentum, bool awake, const SleepProgress& sleep);
+  SleepProgress sleep_progress(BodyId id) const;
   bool remove_body(BodyId id);
   bool contains(BodyId id) const;
   std::size_t body_count() const;
@@ -114,7 +114,7 @@ class World::Impl {
   struct BodyRecord {
     MotionType motion_type = MotionType::dynamic_body;
     bool moved = false;          // fat box replaced in this step's broadphase
-    double sleep_time = 0;       // s spent slower than sleep_speed
+    SleepProgress sleep;         // towards sleep (island.cpp)
     double bounding_radius = 0;  // m, of the shape about the centre of mass
     double reach = 0;            // m the body can travel this step (0 unless awake_)
     Vec3 kinematic_linear_velocity = Vec3::Zero();
@@ -193,6 +193,8 @@ class World::Impl {
 
   // Sleep (island.cpp).
   void update_sleep(double dt);
+  bool accelerating(const SleepProgress& sleep) const;
+  bool ready_to_sleep(const BodyRecord& record) const;
   void wake_island(std::uint32_t body);
   void put_to_sleep(std::uint32_t body);
 

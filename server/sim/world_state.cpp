@@ -36,6 +36,11 @@ bool finite(const tumble::v1::Quat& q) {
   return std::isfinite(q.w()) && std::isfinite(q.x()) && std::isfinite(q.y()) && std::isfinite(q.z());
 }
 
+bool sleep_progress_finite(const physics::SleepProgress& sleep) {
+  return std::isfinite(sleep.time) && sleep.rest_position.allFinite() && sleep.rest_orientation.coeffs().allFinite() &&
+         std::isfinite(sleep.last_speed) && std::isfinite(sleep.rise_start_speed);
+}
+
 // A saved joint's frame rotation: finite and of unit length (it is put back
 // as saved, so only a damaged file fails this).
 bool unit(const tumble::v1::Quat& q) {
@@ -150,7 +155,7 @@ bool restorable(const physics::World& world, physics::BodyId id) {
   return within_magnitude(world.position(id)) && within_magnitude(world.linear_velocity(id)) &&
          within_magnitude(world.angular_velocity(id)) && q.coeffs().allFinite() && std::abs(q.norm() - 1.0) <= 1e-3 &&
          world.linear_momentum(id).allFinite() && world.angular_momentum(id).allFinite() &&
-         std::isfinite(world.sleep_time(id));
+         sleep_progress_finite(world.sleep_progress(id));
 }
 
 }  // namespace
@@ -192,7 +197,13 @@ std::size_t capture_world(const physics::World& world, const BodyDirectory& dire
     set_vec3(world.linear_momentum(id), saved->mutable_linear_momentum());
     set_vec3(world.angular_momentum(id), saved->mutable_angular_momentum());
     saved->set_asleep(world.motion_type(id) == physics::MotionType::dynamic_body && !world.is_awake(id));
-    saved->set_sleep_time(world.sleep_time(id));
+    const physics::SleepProgress sleep = world.sleep_progress(id);
+    saved->set_sleep_time(sleep.time);
+    set_vec3(sleep.rest_position, saved->mutable_rest_position());
+    set_quat(sleep.rest_orientation, saved->mutable_rest_orientation());
+    saved->set_last_speed(sleep.last_speed);
+    saved->set_rise_start_speed(sleep.rise_start_speed);
+    saved->set_rising_steps(sleep.rising_steps);
   }
   state->clear_loads();
   for (const BodyLoad& load : loads.loads()) {
@@ -255,6 +266,12 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
     if (!finite(saved.linear_momentum()) || !finite(saved.angular_momentum()) || !std::isfinite(saved.sleep_time())) {
       return Status::error(where + ": momenta and sleep_time must be finite");
     }
+    if (!finite(saved.rest_position()) || !std::isfinite(saved.last_speed()) ||
+        !std::isfinite(saved.rise_start_speed()) || (saved.has_rest_orientation() && !unit(saved.rest_orientation()))) {
+      return Status::error(
+          where +
+          ": rest_position, last_speed and rise_start_speed must be finite, rest_orientation a unit quaternion");
+    }
     world->add_body_with_id(desc, saved.id());
     if (spec.shape().kind_case() != tumble::v1::Shape::kPlane) {
       // A spec without an orientation means the identity (desc has it), not
@@ -262,8 +279,15 @@ Status restore_world(const tumble::v1::WorldState& state, physics::World* world,
       const auto& q = spec.orientation();
       const physics::Quat orientation =
           spec.has_orientation() ? physics::Quat(q.w(), q.x(), q.y(), q.z()) : desc.orientation;
+      physics::SleepProgress sleep;
+      sleep.time = saved.sleep_time();
+      sleep.rest_position = saved.has_rest_position() ? to_vec3(saved.rest_position()) : desc.position;
+      sleep.rest_orientation = saved.has_rest_orientation() ? to_quat(saved.rest_orientation()) : orientation;
+      sleep.last_speed = saved.last_speed();
+      sleep.rise_start_speed = saved.rise_start_speed();
+      sleep.rising_steps = saved.rising_steps();
       world->restore_state(saved.id(), desc.position, orientation, to_vec3(saved.linear_momentum()),
-                           to_vec3(saved.angular_momentum()), !saved.asleep(), saved.sleep_time());
+                           to_vec3(saved.angular_momentum()), !saved.asleep(), sleep);
       // The momenta are checked through the velocities they give (v = p / m,
       // w = I^-1 L), held to the same ranges as a spawned body's: a file
       // that loads must save again to a file that loads.

@@ -55,7 +55,10 @@ bool all_finite(const WorldState& state) {
     if (!finite(spec.position()) || !finite(spec.linear_velocity()) || !finite(spec.angular_velocity()) ||
         !std::isfinite(q.w()) || !std::isfinite(q.x()) || !std::isfinite(q.y()) || !std::isfinite(q.z()) ||
         !std::isfinite(spec.mass()) || !finite(body.linear_momentum()) || !finite(body.angular_momentum()) ||
-        !std::isfinite(body.sleep_time())) {
+        !std::isfinite(body.sleep_time()) || !finite(body.rest_position()) || !std::isfinite(body.last_speed()) ||
+        !std::isfinite(body.rise_start_speed()) || !std::isfinite(body.rest_orientation().w()) ||
+        !std::isfinite(body.rest_orientation().x()) || !std::isfinite(body.rest_orientation().y()) ||
+        !std::isfinite(body.rest_orientation().z())) {
       return false;
     }
   }

@@ -22,7 +22,7 @@ struct SavedBody {
   Vec3 linear_momentum;
   Vec3 angular_momentum;
   bool awake;
-  double sleep_time;
+  SleepProgress sleep;
 };
 
 std::vector<SavedBody> save(const World& world, const std::vector<BodyDesc>& descs_by_id) {
@@ -32,8 +32,8 @@ std::vector<SavedBody> save(const World& world, const std::vector<BodyDesc>& des
     BodyDesc desc = descs_by_id[id];
     desc.position = world.position(id);
     desc.orientation = world.orientation(id);
-    saved.push_back(
-        {id, desc, world.linear_momentum(id), world.angular_momentum(id), world.is_awake(id), world.sleep_time(id)});
+    saved.push_back({id, desc, world.linear_momentum(id), world.angular_momentum(id), world.is_awake(id),
+                     world.sleep_progress(id)});
   }
   return saved;
 }
@@ -43,7 +43,7 @@ World restore(const std::vector<SavedBody>& saved, BodyId next_id) {
   for (const SavedBody& body : saved) {
     EXPECT_EQ(world.add_body_with_id(body.desc, body.id), body.id);
     world.restore_state(body.id, body.desc.position, body.desc.orientation, body.linear_momentum, body.angular_momentum,
-                        body.awake, body.sleep_time);
+                        body.awake, body.sleep);
   }
   world.set_next_body_id(next_id);
   return world;
@@ -92,7 +92,13 @@ TEST(RestoreTest, IdsMomentaAndSleepComeBackExactly) {
     EXPECT_EQ(copy.linear_momentum(id), world.linear_momentum(id)) << id;
     EXPECT_EQ(copy.angular_momentum(id), world.angular_momentum(id)) << id;
     EXPECT_EQ(copy.is_awake(id), world.is_awake(id)) << id;
-    EXPECT_EQ(copy.sleep_time(id), world.sleep_time(id)) << id;
+    const SleepProgress a = copy.sleep_progress(id), b = world.sleep_progress(id);
+    EXPECT_EQ(a.time, b.time) << id;
+    EXPECT_EQ(a.rest_position, b.rest_position) << id;
+    EXPECT_EQ(a.rest_orientation.coeffs(), b.rest_orientation.coeffs()) << id;
+    EXPECT_EQ(a.last_speed, b.last_speed) << id;
+    EXPECT_EQ(a.rise_start_speed, b.rise_start_speed) << id;
+    EXPECT_EQ(a.rising_steps, b.rising_steps) << id;
   }
   // New bodies get fresh ids, never a removed one.
   EXPECT_EQ(copy.add_body(box_body(Vec3(20, 0.5, 0))), removed_last + 1);
@@ -125,7 +131,7 @@ TEST(RestoreTest, WakingARestoredSleepingColumnWakesItAll) {
     desc.orientation = world.orientation(id);
     copy.add_body_with_id(desc, id);
     copy.restore_state(id, world.position(id), world.orientation(id), world.linear_momentum(id),
-                       world.angular_momentum(id), false, 0);
+                       world.angular_momentum(id), false, SleepProgress{});
   }
   EXPECT_EQ(copy.sleeping_body_count(), 3u);
   // Knock the bottom box out sideways: the boxes above it must fall.

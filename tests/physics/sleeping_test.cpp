@@ -1,10 +1,14 @@
 // Islands and sleeping: resting islands fall asleep, cost nothing while
-// asleep (a 100-box pile included), and wake as a whole when disturbed.
+// asleep (a 100-box pile included), and wake as a whole when disturbed; a
+// box balanced just past its edge topples instead of sleeping there.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <vector>
 
 #include "scene_helpers.h"
+#include "tumble/physics/mass_properties.h"
 #include "tumble/physics/world.h"
 
 namespace tumble::physics {
@@ -43,6 +47,55 @@ double time_to_sleep(World& world, const std::vector<BodyId>& ids, double limit)
     if (all_asleep(world, ids)) return i * kTick;
   }
   return -1;
+}
+
+// A box of the given half extents (1 kg) turned by `degrees` about z and
+// placed with its lowest edge `drop` metres above the ground, stepped for
+// 10 s: returns the height of its centre then, and whether it sleeps.
+struct Tipped {
+  double height;
+  bool asleep;
+};
+Tipped tip(const Vec3& half, double degrees, double drop) {
+  World world;
+  world.add_body(ground_plane());
+  BodyDesc desc;
+  desc.shape = box_shape(half);
+  desc.mass_properties = box_mass_properties(1.0, half);
+  desc.orientation = Quat(Eigen::AngleAxisd(degrees * std::numbers::pi / 180, Vec3::UnitZ()));
+  // The lowest of the box's edges along z, below its centre.
+  double lowest = 0;
+  for (const double sx : {-1.0, 1.0}) {
+    for (const double sy : {-1.0, 1.0}) {
+      lowest = std::min(lowest, (desc.orientation * Vec3(sx * half.x(), sy * half.y(), 0)).y());
+    }
+  }
+  desc.position = Vec3(0, drop - lowest, 0);
+  const BodyId box = world.add_body(desc);
+  for (int i = 0; i < static_cast<int>(10.0 / kTick); ++i) world.step(kTick);
+  return {world.position(box).y(), !world.is_awake(box)};
+}
+
+// A unit box landing on an edge just past balance (at 45.1 degrees its
+// centre is 1.2 mm beyond the edge) tips more slowly than the sleep speed
+// for most of a second after the landing; it must still end flat.
+TEST(SleepingTest, ABoxLandingJustPastItsEdgeTopplesFlat) {
+  for (const double degrees : {45.1, 45.5, 46.0}) {
+    const Tipped box = tip(Vec3::Constant(0.5), degrees, 0.01);
+    EXPECT_NEAR(box.height, 0.5, 0.005) << degrees << " degrees";
+    EXPECT_TRUE(box.asleep) << degrees << " degrees";
+  }
+}
+
+// A tall thin box (0.1 x 1 x 0.1 m) released at rest on one bottom edge,
+// 5.8 degrees from upright (the balance is at 5.71: its centre is 0.8 mm
+// beyond the edge), topples; at 5.5 degrees it falls back upright.
+TEST(SleepingTest, AThinBoxReleasedJustPastBalanceEndsLyingDown) {
+  const Vec3 half(0.05, 0.5, 0.05);
+  const Tipped toppled = tip(half, 5.8, 0.0);
+  EXPECT_NEAR(toppled.height, 0.05, 0.005);
+  EXPECT_TRUE(toppled.asleep);
+  EXPECT_NEAR(tip(half, 5.5, 0.0).height, 0.5, 0.005);
 }
 
 TEST(SleepingTest, SettledStackFallsAsleep) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "sim/body_spec.h"
@@ -203,6 +204,22 @@ TEST(WorldState, InconsistentStatesAreRefused) {
   bad = good;
   bad.mutable_bodies(1)->mutable_linear_momentum()->set_x(std::nan(""));
   EXPECT_EQ(error_of(bad), "bodies[1]: momenta and sleep_time must be finite");
+  bad = good;
+  bad.mutable_bodies(1)->set_last_speed(std::numeric_limits<double>::infinity());
+  EXPECT_EQ(error_of(bad),
+            "bodies[1]: rest_position, last_speed and rise_start_speed must be finite, rest_orientation a unit "
+            "quaternion");
+  bad = good;
+  bad.mutable_bodies(1)->mutable_rest_orientation()->set_w(2);
+  EXPECT_EQ(error_of(bad),
+            "bodies[1]: rest_position, last_speed and rise_start_speed must be finite, rest_orientation a unit "
+            "quaternion");
+  // A file from before the rest pose was saved restores, the count's pose
+  // starting at the body's own.
+  tumble::v1::WorldState older = good;
+  older.mutable_bodies(1)->clear_rest_position();
+  older.mutable_bodies(1)->clear_rest_orientation();
+  EXPECT_EQ(error_of(older), "");
   bad = good;
   bad.mutable_bodies(1)->mutable_spec()->mutable_shape()->mutable_box()->mutable_half_extents()->set_x(-1);
   EXPECT_EQ(error_of(bad), "bodies[1].spec.shape.box.half_extents.x: -1 m is outside 0.001 .. 1e6 m");

@@ -63,6 +63,19 @@
 
 namespace tumble::physics {
 
+// A dynamic body's progress towards sleep (WorldSettings, "sleeping"): how
+// long it has stayed near the pose where the count started, and how its
+// speed has been rising. Part of its state: a restored world sleeps when
+// the original would.
+struct SleepProgress {
+  double time = 0;                           // s near rest_position and rest_orientation
+  Vec3 rest_position = Vec3::Zero();         // m, the centre of mass when the count started
+  Quat rest_orientation = Quat::Identity();  // the orientation then
+  double last_speed = 0;                     // m/s, the sleep test's speed at the last step
+  double rise_start_speed = 0;               // m/s, that speed where its current rise began
+  std::uint32_t rising_steps = 0;            // steps that speed has risen in a row
+};
+
 class World {
  public:
   World();
@@ -111,10 +124,10 @@ class World {
   // with add_body_with_id from a desc with the same pose: its pose (orientation taken as given, a unit
   // quaternion), and for a dynamic body the momenta P, L (BodyDesc gives
   // them as velocities, which M v would round) and its sleep state: awake
-  // or asleep, with the time it has been slow (s).
+  // or asleep, with its progress towards sleep.
   void restore_state(BodyId id, const Vec3& position, const Quat& orientation, const Vec3& linear_momentum,
-                     const Vec3& angular_momentum, bool awake, double sleep_time);
-  double sleep_time(BodyId id) const;  // s the body has been slower than sleep_speed
+                     const Vec3& angular_momentum, bool awake, const SleepProgress& sleep);
+  SleepProgress sleep_progress(BodyId id) const;
 
   // Destroys a body and its contacts, waking the bodies it touched. Returns
   // false if the id is unknown. Other ids stay valid; the last body in dense

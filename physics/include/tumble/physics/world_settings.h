@@ -47,10 +47,13 @@ struct WorldSettings {
   double contact_margin = 0.02;
   double aabb_margin = 0.1;  // m: fat boxes in the broadphase tree
   bool sleep_enabled = true;
-  // A body is slow when |v| and |w| times its bounding radius are both
-  // below sleep_speed; an island sleeps when all its bodies have been slow for
-  // time_to_sleep. Only islands that touch something sleep: a free body keeps
-  // drifting however slowly it moves.
+  // A body is still while it stays within sleep_speed * time_to_sleep / 2
+  // of where it was time_to_sleep ago (its centre, and its bounding sphere
+  // as it turns) and its speed is not rising steadily (a body tipping over
+  // an edge); an island sleeps when all its bodies have been still for
+  // time_to_sleep and |v| and |w| times the bounding radius are below
+  // sleep_speed for each. Only islands that touch something sleep: a free
+  // body keeps drifting however slowly it moves.
   double sleep_speed = 0.05;   // m/s
   double time_to_sleep = 0.5;  // s
   // The divergence guard (World::diverged_bodies): after each step, a
