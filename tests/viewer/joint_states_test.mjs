@@ -27,8 +27,8 @@ const { loadProtocolRoot } = await import("../../web/proto-schema.mjs");
 const types = protocolTypes(loadProtocolRoot());
 const { PoseEncoding } = types;
 
-// Three joints with values no float32 holds exactly, so a value read from
-// the wrong array or the wrong index shows.
+// Three joints whose values all differ, so a value read from the wrong
+// array or at the wrong index shows; the wire carries them as float32.
 const kJoints = [
   { id: 2, position: 0.3, speed: -1.7, motorImpulse: 0 },
   { id: 5, position: 1.1, speed: 4.2, motorImpulse: 0.05 },
