@@ -3,7 +3,8 @@
 // ball joints. The page lists and draws every joint; paused, it draws each
 // anchor where the server has it; running, each hinge's two anchors stay
 // together as its bodies swing; a click on a joint's dot selects it and the
-// panel shows its angle as it changes; a drag on the chain's last link
+// panel shows its angle as it changes, from the pose frames the page
+// subscribed to with every joint's state (no ListJoints polling); a drag on the chain's last link
 // pulls the links above it (through the joints only). Saves a screenshot
 // with the selected joint.
 //
@@ -36,6 +37,11 @@ if (missing) {
   console.log(`SKIP: the viewer's joints test needs ${missing}`);
   process.exit(77);
 }
+// After the check: these import protobufjs from web/node_modules.
+const { FrameReader } = await import("../../web/src/framing.js");
+const { protocolTypes } = await import("../../web/src/schema.js");
+const { loadProtocolRoot } = await import("../../web/proto-schema.mjs");
+const types = protocolTypes(loadProtocolRoot());
 
 const kToken = "viewer-joints-test";
 const kWaitMs = 20000;  // generous bound for anything that should take a moment
@@ -82,6 +88,23 @@ after(async () => {
   if (sceneDir) fs.rmSync(sceneDir, { recursive: true, force: true });
 });
 
+// Every ClientMessage `page` sends on its WebSockets goes to page.sent,
+// decoded, in order (the socket's bytes are the TCP protocol's stream).
+function recordRequests(page) {
+  page.sent = [];
+  page.on("websocket", (socket) => {
+    const reader = new FrameReader();
+    socket.on("framesent", ({ payload }) => {
+      if (typeof payload === "string") return;
+      reader.push(new Uint8Array(payload.buffer, payload.byteOffset, payload.length));
+      for (let body = reader.next(); body !== null; body = reader.next()) page.sent.push(types.ClientMessage.decode(body));
+    });
+  });
+}
+
+// How many ListJoints `page` has sent.
+const listJointsSent = (page) => page.sent.filter((message) => message.kind === "listJoints").length;
+
 // A page with the viewer, once it draws every body and every joint.
 async function openViewer() {
   const page = await browser.context.newPage();
@@ -89,6 +112,7 @@ async function openViewer() {
   page.on("pageerror", (error) => page.errors.push(error));
   page.messages = [];
   page.on("console", (message) => page.messages.push(`${message.type()}: ${message.text()}`));
+  recordRequests(page);
   await page.goto(`http://127.0.0.1:${server.httpPort}/#token=${kToken}`);
   const bodies = (await tumble("bodies")).bodies.length;
   const joints = (await tumble("joints")).joints.length;
@@ -163,8 +187,14 @@ test("the page draws every joint, at the server's anchors when paused and with i
   await page.close();
 });
 
-test("a click on a joint selects it, and the panel shows its angle as the pendulum swings", async () => {
+test("a click on a joint selects it, and the panel shows its angle from the pose frames as the pendulum swings", async () => {
   const page = await openViewer();
+  // The page's subscription asks for the joints' states in its frames.
+  const subscribes = page.sent.filter((message) => message.kind === "subscribe");
+  assert.equal(subscribes.length, 1);
+  assert.equal(subscribes[0].subscribe.joints, true);
+  const listingsBefore = listJointsSent(page);
+  const selectedAt = Date.now();
   const pivot = await page.evaluate(() => window.tumbleViewer.jointId("pivot"));
   const at = await page.evaluate((id) => window.tumbleViewer.jointScreenPosition(id), pivot);
   await page.mouse.click(at.x, at.y);
@@ -199,8 +229,25 @@ test("a click on a joint selects it, and the panel shows its angle as the pendul
     document.querySelector('#inspector [data-field="angle"]')?.textContent !== shown, { shown: shownBefore },
   { timeout: kWaitMs });
   assert.ok(Number.isFinite(after.speed) && after.force.every(Number.isFinite));
-  // The hinge holds the bob up against gravity: some force is on it.
-  assert.ok(Math.hypot(...after.force) > 0.1, `the pivot's force is ${after.force}`);
+  // The state is the newest frame's, every frame: its tick is the page's
+  // last frame's, read in one go.
+  for (let i = 0; i < 5; ++i) {
+    const { state, lastTick } = await page.evaluate((id) => {
+      const hook = window.tumbleViewer;
+      return { state: hook.jointState(id), lastTick: hook.lastTick };
+    }, pivot);
+    assert.equal(state.tick, lastTick, "the pivot's state is not the last frame's");
+    assert.ok(state.forceTick !== null && state.forceTick <= state.tick, `force of tick ${state.forceTick}`);
+    await twoPictures(page);
+  }
+  // Pose frames carry no forces: the panel says which listing's they are.
+  assert.match(await panel.locator('[data-field="force"]').textContent(), /^\d+\.\d{3} N \(.*\), listed at tick \d+$/);
+  // And nothing asked for the joint's state meanwhile: no ListJoints since
+  // the page listed the joints (polling at 10 Hz would have sent several).
+  const waited = Date.now() - selectedAt;
+  if (waited < 1000) await new Promise((resolve) => setTimeout(resolve, 1000 - waited));
+  assert.equal(listJointsSent(page), listingsBefore,
+               `the page sent ListJoints while a joint was selected: ${listJointsSent(page) - listingsBefore} of them`);
   if (options.screenshot) await page.screenshot({ path: options.screenshot });
   assert.deepEqual(page.errors, []);
   await page.close();

@@ -27,6 +27,7 @@ const { FrameReader, FramingError, encodeFrame } = await import("../../web/src/f
 const { ProtocolError, Session } = await import("../../web/src/protocol.js");
 const { protocolTypes } = await import("../../web/src/schema.js");
 const { bodyMotion } = await import("../../web/src/body_motion.js");
+const { JointStates } = await import("../../web/src/joint_states.js");
 const { loadProtocolRoot } = await import("../../web/proto-schema.mjs");
 const types = protocolTypes(loadProtocolRoot());
 const kWaitMs = 20000;  // generous bound for anything the server should do at once
@@ -157,6 +158,65 @@ test("a session decodes the handshake, the body list, frames and replies of the 
     const stats = await session.request("getStats");  // the session goes on after an Error
     assert.equal(stats.bodies, 8);
     assert.ok(stats.tick >= pushed.tick);
+    socket.destroy();
+  } finally {
+    await server.stop();
+  }
+});
+
+test("a subscription with joints carries every joint's state, as the page keeps it, equal to ListJoints'", async () => {
+  const server = await startTumbled(options.tumbled, ["--scene", options.scene]);
+  try {
+    const { session, socket } = await connect(server.port, 5);
+    await session.hello("");
+    await session.request("pause");
+    // Each joint moves differently: the tumbler spins about y at 5 rad/s
+    // and the pill at 0.5, the slider's motor drives the ball along x.
+    const y = { x: 0, y: 1, z: 0 };
+    const added = {};
+    for (const spec of [
+      { name: "spin", type: 2, bodyA: "world", bodyB: "tumbler", anchor: { x: 0, y: 3, z: 0 }, axis: y },
+      { name: "turn", type: 2, bodyA: "world", bodyB: "pill", anchor: { x: -3, y: 0, z: 0 }, axis: y },
+      { name: "rail", type: 3, bodyA: "world", bodyB: "ball", anchor: { x: 3, y: 0, z: 0 }, axis: { x: 1, y: 0, z: 0 },
+        motor: { speed: 1, maxForce: 10 } },
+    ]) {
+      added[spec.name] = (await session.request("addJoint", { joint: spec })).jointId;
+    }
+    await session.request("step", { ticks: 60 });
+
+    // Paused, the subscription's first frame and the listing are of one tick.
+    const first = nextFrame(session);  // it may come with the Subscribed
+    await session.request("subscribe", { rateHz: 60, encoding: types.PoseEncoding.POSE_ENCODING_FULL, joints: true });
+    const frame = await first;
+    const list = await session.request("listJoints");
+    assert.equal(Number(list.tick), Number(frame.tick));
+    assert.deepEqual(frame.jointIds, list.joints.map((joint) => joint.id));
+    const states = new JointStates();
+    assert.equal(states.noteFrame(frame), 3);
+    for (const joint of list.joints) {
+      const state = states.get(joint.id);
+      assert.equal(state.tick, Number(frame.tick));
+      for (const field of ["position", "speed", "motorImpulse"]) {
+        assert.equal(state[field], Math.fround(joint.state[field] ?? 0), `${joint.name}'s ${field}`);
+      }
+    }
+    // Each is its own joint's: the spin turned 60 / 240 s at 5 rad/s, the
+    // turn at 0.5, and the rail's motor pushed.
+    assert.ok(Math.abs(states.get(added.spin).speed - 5) < 0.1, `spin's speed ${states.get(added.spin).speed}`);
+    assert.ok(Math.abs(states.get(added.turn).speed - 0.5) < 0.05, `turn's speed ${states.get(added.turn).speed}`);
+    assert.ok(Math.abs(states.get(added.spin).position - 1.25) < 0.05, `spin's angle ${states.get(added.spin).position}`);
+    assert.ok(states.get(added.rail).motorImpulse > 0, `rail's motor impulse ${states.get(added.rail).motorImpulse}`);
+
+    // Stepped on, the next frame moves the states on without a listing.
+    const stepped = nextFrame(session, (f) => f.tick > frame.tick);
+    await session.request("step", { ticks: 4 });
+    const next = await stepped;
+    states.noteFrame(next);
+    assert.equal(states.get(added.spin).tick, Number(next.tick));
+    const listedSpin = list.joints.find((joint) => joint.id === added.spin).state.position;
+    const ticks = Number(next.tick) - Number(frame.tick);
+    assert.ok(Math.abs(states.get(added.spin).position - listedSpin - (5 * ticks) / 240) < 0.005,
+              `spin's angle went from ${listedSpin} to ${states.get(added.spin).position} in ${ticks} ticks`);
     socket.destroy();
   } finally {
     await server.stop();

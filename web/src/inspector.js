@@ -10,7 +10,9 @@ const xyz = (v) => [v?.x ?? 0, v?.y ?? 0, v?.z ?? 0];
 // A Vec3's length and components, e.g. "9.810 N (0.000, 9.810, 0.000)".
 const magnitude = (v, unit) => `${Math.hypot(...xyz(v)).toFixed(3)} ${unit} (${vec3(xyz(v))})`;
 
-// The rows that describe joint `info` (JointInfo) in `state` (JointState):
+// The rows that describe joint `info` (JointInfo) in `state` (JointStates'
+// get(): position, speed and motor impulse of the newest pose frame, force
+// and torque of the newest listing, at its `forceTick`; or null):
 // [label, value] pairs.
 export function jointRows(info, state) {
   const type = kJointTypeNames[info.type] ?? `type ${info.type}`;
@@ -31,8 +33,10 @@ export function jointRows(info, state) {
     rows.push([info.type === 5 ? "length" : "position", `${position.toFixed(3)} m`]);
     rows.push(["speed", `${speed.toFixed(3)} m/s`]);
   }
-  rows.push(["force", magnitude(state?.force, "N")]);
-  rows.push(["torque", magnitude(state?.torque, "N m")]);
+  // Pose frames carry no forces: these are as the joints were listed.
+  const listed = state?.forceTick != null ? `, listed at tick ${state.forceTick}` : "";
+  rows.push(["force", magnitude(state?.force, "N") + listed]);
+  rows.push(["torque", magnitude(state?.torque, "N m") + listed]);
   if (info.limits) {
     const unit = info.type === 3 ? "m" : "rad";
     rows.push(["limits", `${n3(info.limits.lower)} to ${n3(info.limits.upper)} ${unit}`]);
@@ -107,7 +111,7 @@ export class Inspector {
     ]);
   }
 
-  // Shows joint `info` (JointInfo) in `state` (JointState, or null).
+  // Shows joint `info` (JointInfo) in `state` (see jointRows).
   showJoint(info, state) {
     this.showRows(jointRows(info, state));
   }

@@ -13,6 +13,7 @@ import { Connection } from "./connection.js";
 import { Hud } from "./hud.js";
 import { Inspector } from "./inspector.js";
 import { PoseBuffer, TickClock } from "./interpolation.js";
+import { JointStates } from "./joint_states.js";
 import { JointView } from "./joint_view.js";
 import { NatsLink } from "./nats_link.js";
 import { PointerControl } from "./pointer.js";
@@ -29,8 +30,6 @@ const kStatsIntervalMs = 1000;
 const kInspectorIntervalMs = 100;
 // A joint listing waits at most this long for the pose frame of its tick, ms.
 const kFrameWaitMs = 500;
-// The selected joint's state is asked for this often, ms.
-const kJointStateIntervalMs = 100;
 
 const types = protocolTypes(rootFromDescriptor(descriptor));
 const Events = types.WorldEventKind;
@@ -50,9 +49,10 @@ class Viewer {
     this.latest = null;       // the newest PoseFrame, for the selection panel
     this.periodTicks = 1;     // of the pose stream
     this.statsTimer = null;
-    this.jointStates = new Map();  // id -> {state (JointState), tick}, the newest known
+    // Each joint's newest state: from the pose frames (the subscription
+    // asks for every joint's), force and torque from the listings.
+    this.jointStates = new JointStates();
     this.jointsListed = false;     // this session listed the joints already
-    this.askingJointState = false; // a ListJoints for the selected joint is under way
     this.frameWaiters = [];        // {tick, resolve}: joint listings waiting for their tick's frame
     this.listBodies = coalescing(() => this.listBodiesOnce());
     this.listJoints = coalescing(() => this.listJointsOnce());
@@ -72,12 +72,11 @@ class Viewer {
     this.connection.start();
 
     setInterval(() => this.refreshInspector(), kInspectorIntervalMs);
-    setInterval(() => this.pollJointState(), kJointStateIntervalMs);
     requestAnimationFrame((now) => this.frame(now));
   }
 
-  // A new session after its Welcome: list the bodies, subscribe, list the
-  // joints, poll stats.
+  // A new session after its Welcome: list the bodies, subscribe (with the
+  // joints' states in each frame), list the joints, poll stats.
   async start(session, welcome) {
     this.session = session;
     // Another server's ticks may be behind this one's: states start afresh.
@@ -97,6 +96,10 @@ class Viewer {
         rateHz: kStreamRateHz,
         fields: types.PoseFields.POSE_FIELDS_POSE_AND_VELOCITY,
         encoding: types.PoseEncoding.POSE_ENCODING_FULL,
+        // Every joint's position, speed and motor impulse in each frame
+        // (a few floats per joint; the protocol has no per-joint choice):
+        // the panel's state of the selected joint comes from there.
+        joints: true,
         events: [Events.WORLD_EVENT_BODY_SPAWNED, Events.WORLD_EVENT_BODY_REMOVED, Events.WORLD_EVENT_WORLD_RESET,
                  Events.WORLD_EVENT_BODY_ASLEEP, Events.WORLD_EVENT_BODY_AWAKE, Events.WORLD_EVENT_JOINT_ADDED,
                  Events.WORLD_EVENT_JOINT_REMOVED, Events.WORLD_EVENT_JOINT_BROKEN],
@@ -146,8 +149,8 @@ class Viewer {
     if (session !== this.session) return;
     this.joints.setJoints(joints, (id) => this.poses.poseAt(id, tick), this.jointsListed);
     this.jointsListed = true;
-    for (const id of [...this.jointStates.keys()]) if (!this.joints.joints.has(id)) this.jointStates.delete(id);
-    for (const info of joints) if (info.state) this.noteJointState(info.state, tick ?? 0);
+    this.jointStates.retain(this.joints.joints);
+    this.jointStates.noteListing(joints, tick ?? 0);
     this.hud.setJoints(joints.length);
     this.refreshInspector();
   }
@@ -164,31 +167,6 @@ class Viewer {
         resolve();
       }, kFrameWaitMs);
     });
-  }
-
-  // Asks for the selected joint's state: a ListJoints page of one joint
-  // from its id. One request at a time; a refusal is tried again at the
-  // next interval.
-  async pollJointState() {
-    const id = this.joints.selectedId;
-    const session = this.session;
-    if (id === null || !session || this.askingJointState) return;
-    this.askingJointState = true;
-    try {
-      const page = await session.listJointPage(id, 1);
-      const state = page.joints[0]?.id === id ? page.joints[0].state : null;
-      if (session === this.session && state) this.noteJointState(state, Number(page.tick));
-    } catch (error) {
-      // RATE_LIMITED or a closed session: the next interval asks again.
-    } finally {
-      this.askingJointState = false;
-    }
-  }
-
-  // Keeps a JointState of `tick` unless a newer one is known.
-  noteJointState(state, tick) {
-    const known = this.jointStates.get(state.id);
-    if (!known || known.tick <= tick) this.jointStates.set(state.id, { state, tick });
   }
 
   async pollStats() {
@@ -210,6 +188,12 @@ class Viewer {
     // second (or a few frames) mean a pause, a step or a stalled page.
     this.clock.observe(this.lastTick, performance.now(), Math.max(this.clock.rateHz / 4, 4 * this.periodTicks));
     this.hud.setClock(this.lastTick, frame.simTime);
+    // The selected joint's panel shows each frame's state of it.
+    try {
+      if (this.jointStates.noteFrame(frame) && this.joints.selectedId !== null) this.refreshInspector();
+    } catch (error) {
+      console.warn("tumble:", error.message);
+    }
     const waiting = this.frameWaiters;
     this.frameWaiters = waiting.filter((waiter) => waiter.tick > this.lastTick);
     for (const waiter of waiting) if (waiter.tick <= this.lastTick) waiter.resolve();
@@ -258,7 +242,7 @@ class Viewer {
 
   refreshInspector() {
     const joint = this.joints.joints.get(this.joints.selectedId);
-    if (joint) return this.inspector.showJoint(joint.info, this.jointStates.get(joint.info.id)?.state ?? null);
+    if (joint) return this.inspector.showJoint(joint.info, this.jointStates.get(joint.info.id));
     const body = this.view.bodies.get(this.view.selectedId);
     if (!body) return this.inspector.clear();
     const state = { position: [0, 0, 0], linearVelocity: [0, 0, 0], angularVelocity: [0, 0, 0] };

@@ -2,8 +2,9 @@
 // they are, QUANTIZED frames decoded, DELTA frames applied to the bodies of
 // the last key frame. Frames must come in the order SequenceGate lets them
 // through; each decode() returns the whole state as a FULL-shaped frame
-// (ids, positions, orientations and velocities as flat arrays), which is
-// what PoseBuffer and the selection panel read.
+// (ids, positions, orientations and velocities as flat arrays, and the
+// joint states the frame carries as they are), which is what PoseBuffer,
+// JointStates and the selection panel read.
 import { decodePackedPoses } from "./quantized_poses.js";
 
 // PoseEncoding numbers (proto/tumble/v1/protocol.proto).
@@ -26,11 +27,17 @@ export class PoseStream {
   }
 
   // The whole state `frame` shows, {tick, simTime, sequence, ids, positions,
-  // orientations, linearVelocities, angularVelocities}. Throws on malformed
+  // orientations, linearVelocities, angularVelocities, jointIds,
+  // jointPositions, jointSpeeds, jointMotorImpulses}: every frame of a
+  // stream with joints carries every joint, a DELTA change's too. Throws on malformed
   // packed bytes (PackedPosesError) and on a DELTA change with no key frame
   // before it, which SequenceGate never lets through.
   decode(frame) {
-    const base = { tick: Number(frame.tick), simTime: frame.simTime, sequence: Number(frame.sequence) };
+    const base = {
+      tick: Number(frame.tick), simTime: frame.simTime, sequence: Number(frame.sequence),
+      jointIds: frame.jointIds ?? [], jointPositions: frame.jointPositions ?? [],
+      jointSpeeds: frame.jointSpeeds ?? [], jointMotorImpulses: frame.jointMotorImpulses ?? [],
+    };
     if (frame.encoding === kFull || frame.encoding === undefined) {
       return {
         ...base,

@@ -43,15 +43,15 @@ export function installTestHook(viewer) {
       const joint = viewer.joints.joints.get(id);
       return joint ? viewer.joints.screenPoint(joint.anchorB) : null;
     },
-    // Joint `id`'s newest state, {tick, position, speed, force, torque,
-    // motorImpulse} (vectors as [x, y, z]), or null.
+    // Joint `id`'s newest state, {tick, position, speed, motorImpulse,
+    // force, torque, forceTick} (vectors as [x, y, z]; force and torque
+    // of the listing of forceTick), or null.
     jointState: (id) => {
       const known = viewer.jointStates.get(id);
       if (!known) return null;
       const v = (vector) => [vector?.x ?? 0, vector?.y ?? 0, vector?.z ?? 0];
-      const { state, tick } = known;
-      return { tick, position: state.position ?? 0, speed: state.speed ?? 0, force: v(state.force),
-               torque: v(state.torque), motorImpulse: state.motorImpulse ?? 0 };
+      return { tick: known.tick, position: known.position, speed: known.speed, motorImpulse: known.motorImpulse,
+               force: v(known.force), torque: v(known.torque), forceTick: known.forceTick };
     },
     // The id of the selected joint, or null.
     get selectedJointId() { return viewer.joints.selectedId; },
