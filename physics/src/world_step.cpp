@@ -1,5 +1,6 @@
 // World::step: the pipeline described in world.h.
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "integrator.h"
@@ -44,6 +45,12 @@ void World::Impl::step(double dt) {
     }
     return;
   }
+  // A world whose dynamic bodies all sleep and whose kinematic bodies stand
+  // still has nothing to step: every pass below visits only awake bodies and
+  // the pairs and joints they are in, and a force, a command or a new body
+  // wakes what it touches before the next step. The scan of the flags is
+  // then the whole step.
+  if (std::memchr(awake_.data(), 1, awake_.size()) == nullptr) return;
   integrate_velocities(dt);
   update_broadphase(dt);
   update_contacts();
