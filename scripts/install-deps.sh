@@ -39,9 +39,11 @@ packages=(
   nats-server libnats-dev
   openssl  # the TLS tests make their own certificate authority
   # The container image test (docker/test-image.sh): Debian's Docker engine
-  # and Compose v1, podman and runc where dockerd cannot start, debootstrap
-  # for the base images, jq for the CLI's JSON.
-  docker.io docker-compose podman runc debootstrap jq
+  # and Compose v1, podman and runc where dockerd cannot start (with
+  # netavark and aardvark-dns, which only podman's recommends would bring:
+  # without them podman takes the CNI plugins, whose networks resolve no
+  # container names), debootstrap for the base images, jq for the CLI's JSON.
+  docker.io docker-compose podman runc netavark aardvark-dns debootstrap jq
   "${optional[@]}"
   "$@"
 )
