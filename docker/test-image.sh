@@ -128,9 +128,15 @@ if ((${#missing[@]})); then
   fi
 fi
 
+# One run at a time per WORK. Whatever this run leaves running (a dockerd,
+# podman's conmon processes, the cache server) is started with the lock's
+# descriptor closed, so that nothing but this shell ever holds the lock.
 mkdir -p "$WORK"
 exec 9>"$WORK/lock"
-flock -w 3600 9 || die "another image test has held $WORK/lock for an hour"
+if ! flock -n 9; then
+  say "waiting for $WORK/lock: another image test is running"
+  flock -w 3600 9 || die "another image test has held $WORK/lock for an hour"
+fi
 
 # ---- 2. cleanup, whatever happens ----------------------------------------
 # Everything this run makes is named after RUN_ID and removed here; the
@@ -143,7 +149,10 @@ COMPOSE_PROJECTS=()  # Compose projects brought up, as NAME:FILE
 E=()                 # the engine's client, once chosen
 cleanup() {
   local project
-  if [[ -n $CCACHE_HTTP_PID ]]; then kill "$CCACHE_HTTP_PID" 2>/dev/null || true; fi
+  if [[ -n $CCACHE_HTTP_PID ]]; then
+    kill "$CCACHE_HTTP_PID" 2>/dev/null || true
+    rm -f "$WORK/ccache-http.port" "$WORK/ccache-http.pid"
+  fi
   if ((${#E[@]})); then
     for project in "${COMPOSE_PROJECTS[@]}"; do
       # NAME:FILE; -v: the project's volumes too.
@@ -170,7 +179,7 @@ trap 'die "stopped by SIGINT"' INT
 # only when it fails (podman, where systemd is not running, logs an error
 # about the HEALTHCHECK's timer at every run, stop and rm, which is
 # harmless: this test runs the check itself with `podman healthcheck run`).
-e() { "${E[@]}" "$@"; }
+e() { "${E[@]}" "$@" 9>&-; }
 pm() {
   local rc=0
   e "$@" 2>"$WORK/engine.err" || rc=$?
@@ -253,7 +262,7 @@ start_dockerd() {
   dockerd --config-file "$DOCKERD_DIR/daemon.json" --host "unix://$DOCKERD_DIR/docker.sock" \
     --data-root "$DOCKERD_DIR/root" --exec-root "$DOCKERD_DIR/exec" --pidfile "$DOCKERD_DIR/docker.pid" \
     --bridge "$BRIDGE" --containerd-namespace "$RUN_ID" --containerd-plugins-namespace "$RUN_ID-plugins" \
-    >"$DOCKERD_DIR/dockerd.log" 2>&1 &
+    >"$DOCKERD_DIR/dockerd.log" 2>&1 9>&- &
   DOCKERD_PID=$!
   export DOCKER_HOST=unix://$DOCKERD_DIR/docker.sock
   for ((i = 0; i < 120; ++i)); do
@@ -267,7 +276,16 @@ start_dockerd() {
 }
 
 # A run killed before its cleanup (ctest's timeout sends SIGKILL) leaves its
-# dockerd running: the lock says no other run of this WORK is using it.
+# dockerd running, and its cache server if it was building: the lock says
+# no other run of this WORK is using them.
+if [[ -s $WORK/ccache-http.pid ]]; then
+  pid=$(cat "$WORK/ccache-http.pid")
+  if [[ $pid =~ ^[0-9]+$ ]] && grep -qF ccache-http.py "/proc/$pid/cmdline" 2>/dev/null; then
+    say "stopping the cache server an earlier run left (pid $pid)"
+    kill "$pid" 2>/dev/null || true
+  fi
+  rm -f "$WORK/ccache-http.pid"
+fi
 if [[ -s $WORK/dockerd.run ]]; then
   read -r DOCKERD_DIR BRIDGE <"$WORK/dockerd.run"
   say "stopping the dockerd an earlier run left in $DOCKERD_DIR"
@@ -425,8 +443,9 @@ if command -v ccache >/dev/null && cache_dir=$(ccache -k cache_dir 2>/dev/null) 
     rm -f "$WORK/ccache-http.port"
     if [[ -n $gateway ]] && command -v python3 >/dev/null; then
       python3 "$ROOT/docker/ccache-http.py" "$cache_dir" "$gateway" "$WORK/ccache-http.port" \
-        2>"$WORK/ccache-http.log" &
+        2>"$WORK/ccache-http.log" 9>&- &
       CCACHE_HTTP_PID=$!
+      echo "$CCACHE_HTTP_PID" >"$WORK/ccache-http.pid"
       for ((i = 0; i < 40; ++i)); do
         [[ -s $WORK/ccache-http.port ]] && break
         kill -0 "$CCACHE_HTTP_PID" 2>/dev/null || break
@@ -456,7 +475,7 @@ if [[ -n $CCACHE_HTTP_PID ]]; then
   kill "$CCACHE_HTTP_PID" 2>/dev/null || true
   wait "$CCACHE_HTTP_PID" 2>/dev/null || true
   CCACHE_HTTP_PID=""
-  rm -f "$WORK/ccache-http.port"
+  rm -f "$WORK/ccache-http.port" "$WORK/ccache-http.pid"
 fi
 IMAGE_BYTES=$(e image inspect -f '{{.Size}}' "$IMAGE")
 BASE_BYTES=$(e image inspect -f '{{.Size}}' "$(base_name "$SUITE-slim")")
@@ -942,7 +961,7 @@ cluster_start=$SECONDS
 # A client container on the network, as the controller through all three
 # nodes, running a shell command; its stdout is the command's.
 client() {  # COMMAND
-  podman run --rm --name "$RUN_ID-client" --no-healthcheck --network "$NET" \
+  e run --rm --name "$RUN_ID-client" --no-healthcheck --network "$NET" \
     -e TUMBLE_NATS="$(nats_urls controller "$TUMBLE_NATS_CONTROLLER_PASSWORD" "${INNER_ADDRS[@]}")" \
     --entrypoint sh "$IMAGE" -c "$1" 2>"$WORK/client.err"
 }
