@@ -38,6 +38,12 @@ packages=(
   python3-numpy python3-pytest python3-setuptools python3-pip  # the Python client (clients/python) and its tests
   nats-server libnats-dev
   openssl  # the TLS tests make their own certificate authority
+  # The container image test (docker/test-image.sh): Debian's Docker engine
+  # and Compose v1, podman and runc where dockerd cannot start (with
+  # netavark and aardvark-dns, which only podman's recommends would bring:
+  # without them podman takes the CNI plugins, whose networks resolve no
+  # container names), debootstrap for the base images, jq for the CLI's JSON.
+  docker.io docker-compose podman runc netavark aardvark-dns debootstrap jq
   "${optional[@]}"
   "$@"
 )

@@ -2,8 +2,9 @@
 # Installs what is missing, builds, and runs the whole test suite through
 # ctest. Extra arguments go to ctest (e.g. -L physics, -R Protocol).
 #
-# The container image test (label "docker": docker/test-image.sh, podman)
-# runs when docker/probe.sh says containers can run on this machine, and is
+# The container image test (label "docker": docker/test-image.sh, with the
+# Docker engine and Compose, or podman where no dockerd can start) runs
+# when docker/probe.sh says containers can run on this machine, and is
 # left out, with the reason, when they cannot. TUMBLE_DOCKER_TEST=0 leaves it
 # out anyway; =1 insists on it.
 #
