@@ -415,17 +415,22 @@ EOF
 # The names FROM debian:TAG resolves to: podman's short-name alias, and
 # Docker's own.
 base_name() { if [[ $ENGINE == podman ]]; then echo "docker.io/library/debian:$1"; else echo "debian:$1"; fi; }
+# Whether the engine has debian:TAG to build on. podman's storage is this
+# test's own and kept: the image it imported from this recipe's tree (its
+# id recorded at the import). A dockerd of its own starts empty. A Docker
+# daemon it did not start: any, Debian's own included.
+have_base() {  # TAG
+  local id
+  id=$(e image inspect -f '{{.Id}}' "$(base_name "$1")" 2>/dev/null) || return 1
+  [[ $ENGINE == docker ]] || [[ $(cat "$WORK/podman/debian-$1.imported" 2>/dev/null) == "$BASE_RECIPE $id" ]]
+}
 base_start=$SECONDS
 if [[ -d $BASE && $(cat "$BASE/recipe" 2>/dev/null) != "$BASE_RECIPE" ]]; then
   say "the base image trees in $BASE are of another recipe: making them again"
   rm -f "$BASE"/debian-*.tar
-  # podman's images of them are this test's own, in WORK: imported again.
-  if [[ $ENGINE == podman ]]; then
-    for tag in "$SUITE" "$SUITE-slim"; do e rmi -f "$(base_name "$tag")" "localhost/debian:$tag" >/dev/null 2>&1 || true; done
-  fi
 fi
 for tag in "$SUITE" "$SUITE-slim"; do
-  if e image inspect "$(base_name "$tag")" >/dev/null 2>&1; then
+  if have_base "$tag"; then
     continue
   fi
   if [[ ! -s $BASE/debian-$tag.tar ]]; then
@@ -434,7 +439,10 @@ for tag in "$SUITE" "$SUITE-slim"; do
   fi
   pm import -c 'CMD ["/bin/bash"]' "$BASE/debian-$tag.tar" "$(base_name "$tag")" >/dev/null \
     || die "importing $BASE/debian-$tag.tar as debian:$tag failed"
-  [[ $ENGINE == podman ]] && e tag "$(base_name "$tag")" "localhost/debian:$tag"
+  if [[ $ENGINE == podman ]]; then
+    e tag "$(base_name "$tag")" "localhost/debian:$tag"
+    echo "$BASE_RECIPE $(e image inspect -f '{{.Id}}' "$(base_name "$tag")")" >"$WORK/podman/debian-$tag.imported"
+  fi
   say "imported debian:$tag from $BASE/debian-$tag.tar"
 done
 BASE_SECONDS=$((SECONDS - base_start))
