@@ -6,11 +6,12 @@
 // dynamic body counts the time it has stayed still: near the pose where
 // the count started, and not speeding up (SleepProgress). An island whose
 // bodies have all been still for time_to_sleep, are all slower than the
-// sleep speed, and that touches something, falls asleep as a whole: its bodies stop being integrated and their
-// contacts are neither updated nor solved. Anything that disturbs one of its
-// bodies wakes the whole island (Catto, "Box2D" b2Island; Baraff's notes
-// leave sleeping out). The islands of a step are built once, by the contact
-// solver (contact_islands.h), and read here.
+// sleep speed, and that touches something, falls asleep as a whole: its
+// bodies stop being integrated and their contacts are neither updated nor
+// solved. Anything that disturbs one of its bodies wakes the whole island
+// (Catto, "Box2D" b2Island; Baraff's notes leave sleeping out). The
+// islands of a step are built once, by the contact solver
+// (contact_islands.h), and read here.
 #include <algorithm>
 #include <span>
 

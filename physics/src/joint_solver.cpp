@@ -64,11 +64,25 @@ double velocity(const Jacobian& j, const Velocities& v) {
 }
 
 // 1 / (J M^-1 J^T), or 0 when nothing can move along the row.
+// J_1 M^-1 J_2^T: how an impulse along row 2 changes row 1's velocity.
+double coupling(const JointRow& row, const Jacobian& j1, const Jacobian& j2) {
+  return (row.inverse_mass_a + row.inverse_mass_b) * j1.linear.dot(j2.linear) +
+         j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
+         j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
+}
+
 double effective_mass(const JointRow& row, const Jacobian& j) {
-  const double k = (row.inverse_mass_a + row.inverse_mass_b) * j.linear.squaredNorm() +
-                   j.angular_a.dot(row.inverse_inertia_a * j.angular_a) +
-                   j.angular_b.dot(row.inverse_inertia_b * j.angular_b);
+  const double k = coupling(row, j, j);
   return k > 0 ? 1.0 / k : 0.0;
+}
+
+// K^-1 of two rows solved as one block, K = [J_i M^-1 J_j^T].
+Eigen::Matrix2d block_mass(const JointRow& row, const Jacobian& j1, const Jacobian& j2) {
+  Eigen::Matrix2d k;
+  k(0, 0) = coupling(row, j1, j1);
+  k(0, 1) = k(1, 0) = coupling(row, j1, j2);
+  k(1, 1) = coupling(row, j2, j2);
+  return k.inverse();
 }
 
 void apply(const JointRow& row, const Jacobian& j, double lambda, Velocities& v) {
@@ -294,15 +308,9 @@ void measure_joint(JointRow& row, const SolverBody* slots, const Quat* turns) {
     const Vec3 ya = g.frame_a.col(1), yb = g.frame_b.col(1);
     g.angle = std::atan2(ya.cross(yb).dot(axis), ya.dot(yb));
     g.axial_mass = effective_mass(row, angular_row(axis));
-    // The alignment rows' K = J (I_a^-1 + I_b^-1) J^T for J's rows
-    // j_1 = b_B x a_A, j_2 = c_B x a_A.
-    const Mat3 inverse_inertia = row.inverse_inertia_a + row.inverse_inertia_b;
-    const Vec3 j1 = g.frame_b.col(1).cross(axis), j2 = g.frame_b.col(2).cross(axis);
-    Eigen::Matrix2d k;
-    k(0, 0) = j1.dot(inverse_inertia * j1);
-    k(0, 1) = k(1, 0) = j1.dot(inverse_inertia * j2);
-    k(1, 1) = j2.dot(inverse_inertia * j2);
-    g.block_mass = k.inverse();
+    // The alignment rows j_1 = b_B x a_A, j_2 = c_B x a_A (angular only).
+    g.block_mass =
+        block_mass(row, angular_row(g.frame_b.col(1).cross(axis)), angular_row(g.frame_b.col(2).cross(axis)));
   } else if (row.type == JointType::ball) {
     // The cone: the angle between the frames' x axes, about their normal.
     const Vec3 n = axis.cross(g.frame_b.col(0));
@@ -316,18 +324,9 @@ void measure_joint(JointRow& row, const SolverBody* slots, const Quat* turns) {
   } else if (row.type == JointType::slider) {
     const Vec3 arm_a = g.anchor_a + g.d;
     g.axial_mass = effective_mass(row, linear_row(axis, arm_a, g.anchor_b));
-    // The line rows' 2x2 K for n_1, n_2 = frame A's y and z axes.
-    const Jacobian j1 = linear_row(g.frame_a.col(1), arm_a, g.anchor_b);
-    const Jacobian j2 = linear_row(g.frame_a.col(2), arm_a, g.anchor_b);
-    const double linear_mass = row.inverse_mass_a + row.inverse_mass_b;
-    Eigen::Matrix2d k;
-    k(0, 0) = linear_mass + j1.angular_a.dot(row.inverse_inertia_a * j1.angular_a) +
-              j1.angular_b.dot(row.inverse_inertia_b * j1.angular_b);
-    k(0, 1) = k(1, 0) =
-        j1.angular_a.dot(row.inverse_inertia_a * j2.angular_a) + j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
-    k(1, 1) = linear_mass + j2.angular_a.dot(row.inverse_inertia_a * j2.angular_a) +
-              j2.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
-    g.block_mass = k.inverse();
+    // The line rows, along n_1, n_2 = frame A's y and z axes.
+    g.block_mass = block_mass(row, linear_row(g.frame_a.col(1), arm_a, g.anchor_b),
+                              linear_row(g.frame_a.col(2), arm_a, g.anchor_b));
   }
 }
 
