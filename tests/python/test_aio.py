@@ -25,11 +25,11 @@ def test_requests_and_a_stream(server):
             rock = await client.spawn("rock", sphere=0.1, at=(0, 2, 0))
             stream = await client.subscribe(bodies=["rock"], rate=0, encoding="delta")
             await client.set("rock", linear_velocity=(0, -1, 0))
-            await client.step(24)
+            last = (await client.step(24)).tick
             seen = []
             async for item in stream:
                 seen.append(item)
-                if item.tick >= seen[0].tick + 24:
+                if item.tick >= last:
                     break
             await stream.close()
             stats = await client.stats()
@@ -44,24 +44,28 @@ def test_requests_and_a_stream(server):
 def test_tasks_share_one_client(server):
     async def main():
         async with await tumble.aio.connect(server.address) as client:
-            await client.pause()
+            paused_at = await client.pause()
             stream = await client.subscribe(bodies=["crate"], rate=0)
 
             async def read_frames():
-                # Up to the frame of the last Step's tick (a reader may miss some before it: latest wins).
+                # Up to the frame of the last Step's tick. Any frame before it
+                # may be replaced by a newer one before it is sent (latest wins),
+                # the first one included.
                 frames = [await stream.next(timeout=30)]
-                while frames[-1].tick < frames[0].tick + 4:
+                while frames[-1].tick < paused_at + 4:
                     frames.append(await stream.next(timeout=30))
-                return frames
+                return paused_at, frames
 
             async def step():
                 return [(await client.step(1)).tick for _ in range(4)]
 
             return await asyncio.gather(read_frames(), step(), client.bodies())
 
-    frames, ticks, bodies = run(main())
-    assert frames[0].tick == ticks[0] - 1 and frames[-1].tick == ticks[-1]
+    (paused_at, frames), ticks, bodies = run(main())
+    assert ticks == [paused_at + 1, paused_at + 2, paused_at + 3, paused_at + 4]
+    assert frames[-1].tick == ticks[-1]
     assert [f.tick for f in frames] == sorted({f.tick for f in frames})
+    assert paused_at <= frames[0].tick
     assert len(bodies) == 3
 
 
