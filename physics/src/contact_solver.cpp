@@ -330,6 +330,9 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     }
     for (JointRow& row : rows) end_joint_substep(row);
   }
+  if (settings_.joint_position_correction > 0) {
+    for (JointRow& row : rows) correct_joint_position(row, slots, turns, settings_.joint_position_correction);
+  }
   apply_restitution(group);
   store_impulses(group);
   for (std::uint32_t k = 0; k < group.joint_count; ++k) {

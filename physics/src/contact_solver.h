@@ -91,6 +91,7 @@ struct ContactSolverSettings {
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
   double joint_hertz = 0;              // the joints' position correction (Hz); 0: twice contact_hertz
   double joint_damping_ratio = 2;
+  double joint_position_correction = 0.2;  // fraction of a joint's gap closed after the substeps
 };
 
 class ContactSolver {

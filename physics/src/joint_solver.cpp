@@ -18,6 +18,14 @@ Mat3 cross_matrix(const Vec3& r) {
   return m;
 }
 
+// The point block's K^-1 for the arms r_a, r_b (joint_solver.h, "Geometry").
+Mat3 point_block_mass(const JointRow& row, const Vec3& r_a, const Vec3& r_b) {
+  const Mat3 sa = cross_matrix(r_a), sb = cross_matrix(r_b);
+  const Mat3 k = (row.inverse_mass_a + row.inverse_mass_b) * Mat3::Identity() - sa * row.inverse_inertia_a * sa -
+                 sb * row.inverse_inertia_b * sb;
+  return k.inverse();
+}
+
 // The two bodies' velocities during a pass, in double precision.
 struct Velocities {
   Vec3 linear_a, angular_a, linear_b, angular_b;
@@ -361,10 +369,7 @@ void prepare_joint_row(const Joint& joint, std::uint32_t body_a, std::uint32_t b
   row.delta_center = center_b - center_a;
   const bool point = desc.type == JointType::ball || desc.type == JointType::hinge || desc.type == JointType::fixed;
   if (point) {
-    const Mat3 sa = cross_matrix(row.anchor_a), sb = cross_matrix(row.anchor_b);
-    const Mat3 k = (row.inverse_mass_a + row.inverse_mass_b) * Mat3::Identity() - sa * row.inverse_inertia_a * sa -
-                   sb * row.inverse_inertia_b * sb;
-    row.point_mass = k.inverse();
+    row.point_mass = point_block_mass(row, row.anchor_a, row.anchor_b);
   }
   if (desc.type == JointType::fixed || desc.type == JointType::slider ||
       (desc.type == JointType::ball && desc.friction > 0)) {
@@ -462,6 +467,32 @@ void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const Joi
     }
   }
   save(row, v, slots);
+}
+
+void correct_joint_position(JointRow& row, SolverBody* slots, Quat* turns, double fraction) {
+  if (row.type != JointType::ball && row.type != JointType::hinge && row.type != JointType::fixed) return;
+  SolverBody& a = slots[row.slot_a];
+  SolverBody& b = slots[row.slot_b];
+  const Vec3 anchor_a = turns[row.slot_a] * row.anchor_a;
+  const Vec3 anchor_b = turns[row.slot_b] * row.anchor_b;
+  const Vec3 d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + anchor_b - anchor_a;
+  if (d.squaredNorm() <= kJointSlop * kJointSlop) return;
+  // K from the arms as they are now: the step's own (row.point_mass) can be
+  // far off for a link that has turned a tenth of a radian, and a chain
+  // with a heavy weight then overshoots.
+  const Vec3 p = -fraction * (point_block_mass(row, anchor_a, anchor_b) * d);
+  // The body's move by the impulse p: dx = p / M, dtheta = I^-1 (r x p),
+  // with the world-frame I^-1 of the step's start.
+  if (row.inverse_mass_a > 0) {
+    store_vec3(a.displacement, load_vec3(a.displacement) - row.inverse_mass_a * p);
+    store_vec3(a.rotation, load_vec3(a.rotation) - row.inverse_inertia_a * anchor_a.cross(p));
+    turns[row.slot_a] = quat_from_rotation_vector(load_vec3(a.rotation));
+  }
+  if (row.inverse_mass_b > 0) {
+    store_vec3(b.displacement, load_vec3(b.displacement) + row.inverse_mass_b * p);
+    store_vec3(b.rotation, load_vec3(b.rotation) + row.inverse_inertia_b * anchor_b.cross(p));
+    turns[row.slot_b] = quat_from_rotation_vector(load_vec3(b.rotation));
+  }
 }
 
 void store_joint(const JointRow& row, const JointStepSettings& settings, Joint& joint) {

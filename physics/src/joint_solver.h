@@ -43,6 +43,9 @@
 // measured at the start of the step and after each move, and every pass
 // between two moves reads that measure.
 //
+// After the substeps, a ball, hinge or fixed joint's remaining gap is
+// partly closed at the position level (correct_joint_position).
+//
 // Thread: a row is touched only by the task that solves its group.
 #pragma once
 
@@ -65,6 +68,10 @@ struct Joint {
   Vec3 torque = Vec3::Zero();  // on body B over the last step (N m)
   double motor_impulse = 0;    // over the last step (N m s or N s)
 };
+
+// The gap (m) between a joint's anchors that correct_joint_position leaves
+// to the joint spring: smaller gaps are not worth a move.
+inline constexpr double kJointSlop = 0.0005;
 
 // The springs and the substep a group's joints are solved with.
 struct JointStepSettings {
@@ -142,6 +149,13 @@ void warm_start_joint(const JointRow& row, SolverBody* slots);
 void solve_joint(JointRow& row, const Joint& joint, SolverBody* slots, const JointStepSettings& settings, bool soft);
 // At the end of a substep: adds the motor's impulse of the substep.
 inline void end_joint_substep(JointRow& row) { row.motor_sum += row.impulses.motor; }
+// After the substeps: moves the bodies of a ball, hinge or fixed joint
+// (their slots' motion, and turns with it) by `fraction` of the gap d
+// between its anchors, if the gap is over kJointSlop: the position impulse
+// p = -fraction K^-1 d, with K of the point block for the arms as they
+// have turned (Catto's point-to-point K; Box2D v2's and Jolt's position
+// passes). Velocities are not touched.
+void correct_joint_position(JointRow& row, SolverBody* slots, Quat* turns, double fraction);
 // After the substeps: stores the impulses in the joint for the next step's
 // warm start, and its force, torque and motor impulse over the step.
 void store_joint(const JointRow& row, const JointStepSettings& settings, Joint& joint);

@@ -105,6 +105,7 @@ void World::Impl::solve_contacts(double dt) {
   solver_settings.restitution_threshold = settings_.restitution_threshold;
   solver_settings.joint_hertz = settings_.joint_hertz;
   solver_settings.joint_damping_ratio = settings_.joint_damping_ratio;
+  solver_settings.joint_position_correction = settings_.joint_position_correction;
   const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_,
                                    frictions_,      restitutions_,    external_};
   collect_joint_edges();

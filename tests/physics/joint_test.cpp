@@ -281,11 +281,13 @@ RagdollDrop drop_ragdolls(double turn_step, int max_steps) {
 // on the last bit of a rounding. So the drop is made six times, turned by
 // a nanoradian more each time, and every one must hold. Without the
 // joints' friction a hanging arm swings as a pendulum and most of these
-// drops are still awake after 20 s (tried: 19 of 30).
+// drops are still awake after 20 s (tried: 19 of 30). Without the joints'
+// position correction (WorldSettings::joint_position_correction) an elbow
+// struck by a falling torso opens by up to 1.25 cm.
 TEST(JointTest, RagdollsDroppedOnAPileStayWholeAndFallAsleep) {
   for (int trial = 0; trial < 6; ++trial) {
     const RagdollDrop drop = drop_ragdolls(0.7 + 1e-9 * trial, 10 * 240);
-    EXPECT_LT(drop.worst_separation, 0.02) << "trial " << trial;
+    EXPECT_LT(drop.worst_separation, 0.01) << "trial " << trial;
     EXPECT_EQ(drop.awake, 0u) << "trial " << trial << ", after " << drop.steps << " steps";
   }
 }
