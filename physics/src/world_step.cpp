@@ -49,8 +49,9 @@ void World::Impl::step(double dt) {
   // still has nothing to step: every pass below visits only awake bodies and
   // the pairs and joints they are in, and a force, a command or a new body
   // wakes what it touches before the next step. The scan of the flags is
-  // then the whole step.
-  if (std::memchr(awake_.data(), 1, awake_.size()) == nullptr) return;
+  // then the whole step. (An empty world's flags have no data to scan:
+  // memchr must not be given a null pointer even for no bytes.)
+  if (awake_.empty() || std::memchr(awake_.data(), 1, awake_.size()) == nullptr) return;
   integrate_velocities(dt);
   update_broadphase(dt);
   update_contacts();
