@@ -48,6 +48,7 @@ struct Contact {
   Vec3 local_b[kMaxManifoldPoints];
   double normal_impulse[kMaxManifoldPoints] = {};
   Vec3 tangent_impulse[kMaxManifoldPoints];  // friction impulse, world frame (N s)
+  double spin_impulse = 0;                   // about the normal, a one-point manifold's (N m s)
   Vec3 local_normal = Vec3::UnitY();         // manifold normal in A's frame
 
   // The relative pose at the last full collision test; while the bodies'

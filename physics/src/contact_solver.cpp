@@ -94,6 +94,10 @@ void ContactSolver::warm_start(const Group& group) {
       b.angular = b.angular + (p.normal.impulse * p.normal.response_b + p.tangent1.impulse * p.tangent1.response_b +
                                p.tangent2.impulse * p.tangent2.response_b);
     }
+    if (w.spins) {
+      a.angular = a.angular - w.spin_impulse * w.spin_response_a;
+      b.angular = b.angular + w.spin_impulse * w.spin_response_b;
+    }
     scatter_velocity(slots, w.slot_a, w.inverse_mass_a, a);
     scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
   }
@@ -171,6 +175,18 @@ void ContactSolver::solve_pass(const Group& group, bool soft) {
       b.angular = b.angular + (d1 * p.tangent1.response_b + d2 * p.tangent2.response_b);
     }
 
+    if (w.spins) {
+      // The spin row of the one-point lanes (zero mass in the others),
+      // within friction * spin_friction * the point's normal impulse.
+      const Float4 spin = dot4(w.normal, b.angular - a.angular);
+      const Float4 limit = w.spin_limit * points[0].normal.impulse;
+      const Float4 accumulated = min4(max4(w.spin_impulse - w.spin_mass * spin, zero - limit), limit);
+      const Float4 d = accumulated - w.spin_impulse;
+      w.spin_impulse = accumulated;
+      a.angular = a.angular - d * w.spin_response_a;
+      b.angular = b.angular + d * w.spin_response_b;
+    }
+
     scatter_velocity(slots, w.slot_a, w.inverse_mass_a, a);
     scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
   }
@@ -227,6 +243,7 @@ void ContactSolver::store_impulses(const Group& group) const {
       const ContactConstraint& c = constraints[w.constraint[lane]];
       Contact& contact = contacts_[c.contact];
       const Vec3 tangent1 = lane_of(w.tangent1, lane), tangent2 = lane_of(w.tangent2, lane);
+      contact.spin_impulse = w.spin_impulse[lane];
       for (std::uint32_t k = 0; k < c.point_count; ++k) {
         const WidePoint& p = points[k];
         contact.normal_impulse[k] = p.normal.impulse[lane];
@@ -268,13 +285,16 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
   // The rows, lane by lane; a lane without a constraint, or without a
   // point k, keeps the zeros written here.
   const std::span<const ContactConstraint> constraints = islands_.constraints();
-  const WideRowInputs inputs{bodies_, velocities, soft_, static_soft_};
+  const WideRowInputs inputs{bodies_, velocities, soft_, static_soft_, settings_.spin_friction};
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     WideConstraint& w = wide_[group.first_wide + i];
     std::memset(static_cast<void*>(wide_points_.data() + w.first_point), 0, w.point_count * sizeof(WidePoint));
     w.normal = w.tangent1 = w.tangent2 = Vec3x4{};
     w.inverse_mass_a = w.inverse_mass_b = w.friction = w.restitution = Float4{};
     w.bias_rate = w.mass_scale = w.impulse_scale = Float4{};
+    w.spin_response_a = w.spin_response_b = Vec3x4{};
+    w.spin_mass = w.spin_impulse = w.spin_limit = Float4{};
+    w.spins = false;
     WidePoint* points = wide_points_.data() + w.first_point;
     for (int lane = 0; lane < kLanes; ++lane) {
       if (w.constraint[lane] == kNoConstraint) continue;

@@ -28,7 +28,9 @@
 // bias s/h, so the bodies may close the gap within the substep but not pass
 // it. Normal: accumulated impulse >= 0. Friction: the two tangent impulses
 // are clamped together to the disc of radius friction * normal impulse
-// (Coulomb's cone).
+// (Coulomb's cone). Spin (a contact of one point only): the angular row
+// c' = n.(w_b - w_a), m = 1 / (n.I_a^-1 n + n.I_b^-1 n), its impulse
+// clamped to friction * spin_friction * normal impulse.
 //
 // Restitution (Baraff, "Physically Based Modeling: Rigid Body Simulation II"
 // section 8, the colliding-contact impulse; applied after the substeps as in
@@ -89,6 +91,7 @@ struct ContactSolverSettings {
   double damping_ratio = 10;  // of that push
   double max_push_speed = 3;  // m/s
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
+  double spin_friction = 0.005;        // m: a one-point contact's torsional friction arm
   double joint_hertz = 0;              // the joints' position correction (Hz); 0: twice contact_hertz
   double joint_damping_ratio = 2;
   double joint_position_correction = 0.2;  // fraction of a joint's gap closed after the substeps

@@ -128,6 +128,28 @@ void build_lane(const WideRowInputs& in, const ContactConstraint& c, const Conta
     p.separation[lane] = static_cast<float>(mp.separation);
     p.relative_velocity[lane] = static_cast<float>(normal.dot(vb.linear - va.linear) + angular_part);
   }
+
+  // The spin row, for a single point: one point has no lever arm about
+  // the normal, so nothing else stops a body spinning on it.
+  if (m.point_count == 1 && in.spin_friction > 0) {
+    double k_row = 0;
+    if (reads_a) {
+      const Vec3 r = response(inertia_a, isotropic_a, normal);
+      k_row += normal.dot(r);
+      set_lane(w.spin_response_a, lane, r);
+    }
+    if (reads_b) {
+      const Vec3 r = response(inertia_b, isotropic_b, normal);
+      k_row += normal.dot(r);
+      set_lane(w.spin_response_b, lane, r);
+    }
+    if (k_row > 0) {
+      w.spin_mass[lane] = static_cast<float>(1.0 / k_row);
+      w.spin_impulse[lane] = static_cast<float>(contact.spin_impulse);
+      w.spin_limit[lane] = static_cast<float>(double{w.friction[lane]} * in.spin_friction);
+      w.spins = true;
+    }
+  }
 }
 
 }  // namespace tumble::physics

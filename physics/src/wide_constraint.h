@@ -70,6 +70,12 @@ struct WideConstraint {
   Float4 inverse_mass_a, inverse_mass_b;
   Float4 friction, restitution;
   Float4 bias_rate, mass_scale, impulse_scale;
+  // The spin row about the normal of a lane whose contact has one point
+  // (contact_solver.h): the responses I^-1 n, its effective mass (zero in
+  // the other lanes), its impulse, and friction * spin_friction.
+  Vec3x4 spin_response_a, spin_response_b;
+  Float4 spin_mass, spin_impulse, spin_limit;
+  bool spins = false;  // whether any lane has a spin row
 };
 
 // The implicit spring of a soft row (Box2D's b2Softness).
@@ -90,8 +96,9 @@ Softness make_softness(double hertz, double damping_ratio, double h);
 struct WideRowInputs {
   ContactSolverBodies bodies;
   std::span<const SolverVelocity> velocities;
-  Softness soft;         // between two dynamic bodies
-  Softness static_soft;  // against a body of infinite mass
+  Softness soft;             // between two dynamic bodies
+  Softness static_soft;      // against a body of infinite mass
+  double spin_friction = 0;  // m (WorldSettings::spin_friction)
 };
 
 // Writes lane `lane` of w and of its points (w.first_point's, at points)

@@ -360,6 +360,8 @@ bool World::Impl::update_manifold(Contact& c, std::uint32_t index) {
       }
     }
   }
+  // The spin row's impulse lives only while the manifold stays one point.
+  if (fresh.point_count != 1 || c.manifold.point_count != 1) c.spin_impulse = 0;
   c.manifold = fresh;
   c.local_normal = ta.rotation.transpose() * fresh.normal;
   for (int k = 0; k < fresh.point_count; ++k) {

@@ -104,6 +104,7 @@ void World::Impl::solve_contacts(double dt) {
   solver_settings.damping_ratio = settings_.contact_damping_ratio;
   solver_settings.max_push_speed = settings_.max_push_speed;
   solver_settings.restitution_threshold = settings_.restitution_threshold;
+  solver_settings.spin_friction = settings_.spin_friction;
   solver_settings.joint_hertz = settings_.joint_hertz;
   solver_settings.joint_damping_ratio = settings_.joint_damping_ratio;
   solver_settings.joint_position_correction = settings_.joint_position_correction;

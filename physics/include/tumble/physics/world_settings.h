@@ -48,6 +48,14 @@ struct WorldSettings {
   // above closes it. 0 leaves the gap to the spring alone; above about
   // half, a chain with a heavy weight can overshoot and gain energy.
   double joint_position_correction = 0.2;
+  // Torsional friction (m): a contact of a single point (a sphere's, a
+  // capsule's end) resists spinning about its normal with a torque of at
+  // most friction * spin_friction * its normal force, as the small patch a
+  // real contact presses flat would (the default of MuJoCo's torsional
+  // coefficient). Contacts of two or more points resist the spin
+  // through their points' friction already. 0 lets a ball spin in place
+  // for ever.
+  double spin_friction = 0.005;
   double max_push_speed = 3;           // m/s: the push never separates faster
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
   // Every pair gets contact points up to this separation (m), plus the
