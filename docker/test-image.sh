@@ -755,6 +755,20 @@ password_of() {
     controller) echo "$TUMBLE_NATS_CONTROLLER_PASSWORD" ;;
   esac
 }
+# The node tumbled is connected to, asked through all three: sets node
+# (nats-I), killed (its I) and others (the two other I's). WHAT names the
+# run in a failure.
+find_connected_node() {
+  local what=$1 server i
+  server=$(nats_cli "$(host_url controller 1),$(host_url controller 2),$(host_url controller 3)" \
+    --world demo --json stats | jq -r '.nats.server_url') || die "$what: 'tumble --nats ... stats' failed"
+  node=${server#nats://}
+  node=${node%%:*}
+  [[ $node =~ ^nats-[123]$ ]] || die "$what: tumbled is connected to '$server', not to one of nats-1, nats-2, nats-3"
+  killed=${node#nats-}
+  others=()
+  for i in 1 2 3; do ((i == killed)) || others+=("$i"); done
+}
 
 # An observer reads, and may not command: NATS itself refuses its request
 # on .rpc, and lets its ListBodies through to .query.
@@ -924,15 +938,7 @@ say "Compose (NATS): the client pushed the crate as the controller and read it m
 
 # A node goes: SIGKILL the one the leader is connected to; it reconnects to
 # another by itself and its frames go on through the others.
-all_controller="$(host_url controller 1),$(host_url controller 2),$(host_url controller 3)"
-server=$(nats_cli "$all_controller" --world demo --json stats | jq -r '.nats.server_url') \
-  || die "Compose (NATS): 'tumble --nats ... stats' failed"
-node=${server#nats://}
-node=${node%%:*}
-[[ $node =~ ^nats-[123]$ ]] || die "Compose (NATS): tumbled is connected to '$server', not to one of nats-1, nats-2, nats-3"
-killed=${node#nats-}
-others=()
-for i in 1 2 3; do ((i == killed)) || others+=("$i"); done
+find_connected_node "Compose (NATS)"
 tick_killed=$(cli --json bodies | jq -er .tick) || die "cannot read the tick over TCP"
 dn kill "$node" >>"$WORK/compose.log" 2>&1 || die "docker-compose kill $node failed"
 survivors="$(host_url controller "${others[0]}"),$(host_url controller "${others[1]}")"
@@ -1045,15 +1051,7 @@ zs=$(crate_moves "$frames" 2 5) \
 say "NATS: the client container pushed the crate as the controller and read it moving: z = $zs"
 
 # SIGKILL the node tumbled is connected to.
-stats=$(nats_cli "$(host_url controller 1),$(host_url controller 2),$(host_url controller 3)" --world demo --json stats) \
-  || die "NATS: 'tumble --nats ... stats' failed"
-server=$(jq -r '.nats.server_url' <<<"$stats")
-node=${server#nats://}
-node=${node%%:*}
-[[ $node =~ ^nats-[123]$ ]] || die "NATS: tumbled is connected to '$server', not to one of nats-1, nats-2, nats-3"
-killed=${node#nats-}
-others=()
-for i in 1 2 3; do ((i == killed)) || others+=("$i"); done
+find_connected_node NATS
 tick_killed=$(cli --json bodies | jq -er .tick) || die "cannot read the tick over TCP"
 kill_start=$SECONDS
 pm kill "$RUN_ID-$node" >/dev/null || die "podman kill $node failed"
