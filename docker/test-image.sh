@@ -755,11 +755,11 @@ password_of() {
     controller) echo "$TUMBLE_NATS_CONTROLLER_PASSWORD" ;;
   esac
 }
-# The node tumbled is connected to, asked through all three: sets node
-# (nats-I), killed (its I) and others (the two other I's). WHAT names the
-# run in a failure.
+# The node tumbled is connected to, asked through all three: sets server
+# (its URL as tumbled reports it), node (nats-I), killed (its I) and others
+# (the two other I's). WHAT names the run in a failure.
 find_connected_node() {
-  local what=$1 server i
+  local what=$1 i
   server=$(nats_cli "$(host_url controller 1),$(host_url controller 2),$(host_url controller 3)" \
     --world demo --json stats | jq -r '.nats.server_url') || die "$what: 'tumble --nats ... stats' failed"
   node=${server#nats://}
