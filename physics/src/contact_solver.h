@@ -92,7 +92,7 @@ struct ContactSolverSettings {
   double max_push_speed = 3;  // m/s
   double restitution_threshold = 1.0;  // m/s: slower impacts do not bounce
   double spin_friction = 0.005;        // m: a one-point contact's torsional friction arm
-  double joint_hertz = 0;              // the joints' position correction (Hz); 0: twice contact_hertz
+  double joint_hertz = 0;              // the joints' spring (Hz); 0: twice contact_hertz
   double joint_damping_ratio = 2;
   double joint_position_correction = 0.2;  // fraction of a joint's gap closed after the substeps
 };

@@ -26,6 +26,15 @@ Mat3 point_block_mass(const JointRow& row, const Vec3& r_a, const Vec3& r_b) {
   return k.inverse();
 }
 
+// The anchors r_a, r_b turned by the bodies' rotation so far, and the gap
+// d = anchor B minus anchor A after their moves (joint_solver.h, "Geometry").
+Vec3 anchor_gap(const JointRow& row, const SolverBody* slots, const Quat* turns, Vec3& anchor_a, Vec3& anchor_b) {
+  anchor_a = turns[row.slot_a] * row.anchor_a;
+  anchor_b = turns[row.slot_b] * row.anchor_b;
+  return row.delta_center + (load_vec3(slots[row.slot_b].displacement) - load_vec3(slots[row.slot_a].displacement)) +
+         anchor_b - anchor_a;
+}
+
 // The two bodies' velocities during a pass, in double precision.
 struct Velocities {
   Vec3 linear_a, angular_a, linear_b, angular_b;
@@ -71,7 +80,6 @@ double velocity(const Jacobian& j, const Velocities& v) {
   return j.linear.dot(v.linear_b - v.linear_a) + j.angular_b.dot(v.angular_b) - j.angular_a.dot(v.angular_a);
 }
 
-// 1 / (J M^-1 J^T), or 0 when nothing can move along the row.
 // J_1 M^-1 J_2^T: how an impulse along row 2 changes row 1's velocity.
 double coupling(const JointRow& row, const Jacobian& j1, const Jacobian& j2) {
   return (row.inverse_mass_a + row.inverse_mass_b) * j1.linear.dot(j2.linear) +
@@ -79,6 +87,7 @@ double coupling(const JointRow& row, const Jacobian& j1, const Jacobian& j2) {
          j1.angular_b.dot(row.inverse_inertia_b * j2.angular_b);
 }
 
+// 1 / (J M^-1 J^T), or 0 when nothing can move along the row.
 double effective_mass(const JointRow& row, const Jacobian& j) {
   const double k = coupling(row, j, j);
   return k > 0 ? 1.0 / k : 0.0;
@@ -294,14 +303,10 @@ double axial_impulse(const JointImpulses& impulses) {
 }  // namespace
 
 void measure_joint(JointRow& row, const SolverBody* slots, const Quat* turns) {
-  const SolverBody& a = slots[row.slot_a];
-  const SolverBody& b = slots[row.slot_b];
   const Quat& turn_a = turns[row.slot_a];
   const Quat& turn_b = turns[row.slot_b];
   Geometry& g = row.geometry;
-  g.anchor_a = turn_a * row.anchor_a;
-  g.anchor_b = turn_b * row.anchor_b;
-  g.d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + g.anchor_b - g.anchor_a;
+  g.d = anchor_gap(row, slots, turns, g.anchor_a, g.anchor_b);
   g.cone_axis_valid = false;
   if (row.type == JointType::distance) {
     const double length = g.d.norm();
@@ -473,9 +478,8 @@ void correct_joint_position(JointRow& row, SolverBody* slots, Quat* turns, doubl
   if (row.type != JointType::ball && row.type != JointType::hinge && row.type != JointType::fixed) return;
   SolverBody& a = slots[row.slot_a];
   SolverBody& b = slots[row.slot_b];
-  const Vec3 anchor_a = turns[row.slot_a] * row.anchor_a;
-  const Vec3 anchor_b = turns[row.slot_b] * row.anchor_b;
-  const Vec3 d = row.delta_center + (load_vec3(b.displacement) - load_vec3(a.displacement)) + anchor_b - anchor_a;
+  Vec3 anchor_a, anchor_b;
+  const Vec3 d = anchor_gap(row, slots, turns, anchor_a, anchor_b);
   if (d.squaredNorm() <= kJointSlop * kJointSlop) return;
   // K from the arms as they are now: the step's own (row.point_mass) can be
   // far off for a link that has turned a tenth of a radian, and a chain
