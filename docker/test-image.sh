@@ -769,6 +769,17 @@ find_connected_node() {
   others=()
   for i in 1 2 3; do ((i == killed)) || others+=("$i"); done
 }
+# Whether tumbled, asked through the nodes in $survivors, is connected
+# again, to another server than $server (find_connected_node's).
+reconnected() {
+  CLI_TIMEOUT=2 nats_cli "$survivors" --world demo --json stats 2>/dev/null \
+    | jq -e --arg gone "$server" '.nats.connected and .nats.reconnects >= 1 and .nats.server_url != $gone' >/dev/null
+}
+# World demo's servers through URL, as [{id, standby, epoch}], the leader first.
+roles() {  # URL
+  nats_cli "$1" --json worlds 2>/dev/null \
+    | jq -sc '[.[] | select(.world == "demo") | {id: .server_id, standby, epoch}] | sort_by(.standby)'
+}
 
 # An observer reads, and may not command: NATS itself refuses its request
 # on .rpc, and lets its ListBodies through to .query.
@@ -909,10 +920,6 @@ HOSTPORT=$(nats_port tumbled 7400)
 [[ $("$DOCKER" exec "$(dn ps -q nats-1)" id -un) == nats ]] || die "nats-server does not run as the user nats"
 
 # Through each node: world demo, a leader (an epoch) and a standby.
-roles() {  # URL
-  nats_cli "$1" --json worlds 2>/dev/null \
-    | jq -sc '[.[] | select(.world == "demo") | {id: .server_id, standby, epoch}] | sort_by(.standby)'
-}
 leader_and_standby() {
   roles "$1" | jq -e 'length == 2 and .[0].standby == false and .[0].epoch > 0 and .[1].standby == true' >/dev/null
 }
@@ -942,10 +949,6 @@ find_connected_node "Compose (NATS)"
 tick_killed=$(cli --json bodies | jq -er .tick) || die "cannot read the tick over TCP"
 dn kill "$node" >>"$WORK/compose.log" 2>&1 || die "docker-compose kill $node failed"
 survivors="$(host_url controller "${others[0]}"),$(host_url controller "${others[1]}")"
-reconnected() {
-  CLI_TIMEOUT=2 nats_cli "$survivors" --world demo --json stats 2>/dev/null \
-    | jq -e --arg gone "$server" '.nats.connected and .nats.reconnects >= 1 and .nats.server_url != $gone' >/dev/null
-}
 until_ok 60 reconnected \
   || { dn logs --no-color tumbled | tail -n 30 >&2; die "Compose (NATS): tumbled did not reconnect within 30 s of $node's SIGKILL"; }
 for i in "${others[@]}"; do
@@ -1060,10 +1063,6 @@ rc=$(timeout 30 podman wait "$RUN_ID-$node" 2>/dev/null) || die "NATS: $node sti
 
 # tumbled notices and reconnects to one of the others, on its own.
 survivors="$(host_url controller "${others[0]}"),$(host_url controller "${others[1]}")"
-reconnected() {
-  CLI_TIMEOUT=2 nats_cli "$survivors" --world demo --json stats 2>/dev/null \
-    | jq -e --arg gone "$server" '.nats.connected and .nats.reconnects >= 1 and .nats.server_url != $gone' >/dev/null
-}
 if ! until_ok 60 reconnected; then
   show_logs "$RUN_ID-tumbled"
   die "NATS: tumbled did not reconnect to another node within 30 s of $node's SIGKILL"
@@ -1109,26 +1108,22 @@ for role in leader standby; do
     until_ok 120 led || { show_logs "$RUN_ID-leader"; die "JetStream: the leader did not lead world demo within 60 s"; }
   fi
 done
-roles() {
-  nats_cli "$all_nodes" --json worlds 2>/dev/null \
-    | jq -sc '[.[] | select(.world == "demo") | {id: .server_id, standby, epoch}] | sort_by(.standby)'
-}
-has_standby() { roles | jq -e 'length == 2 and .[0].standby == false and .[1].standby == true' >/dev/null; }
-until_ok 60 has_standby || { show_logs "$RUN_ID-standby"; die "JetStream: no standby answered for world demo: $(roles)"; }
-before=$(roles)
+has_standby() { roles "$all_nodes" | jq -e 'length == 2 and .[0].standby == false and .[1].standby == true' >/dev/null; }
+until_ok 60 has_standby || { show_logs "$RUN_ID-standby"; die "JetStream: no standby answered for world demo: $(roles "$all_nodes")"; }
+before=$(roles "$all_nodes")
 epoch_before=$(jq -r '.[0].epoch' <<<"$before")
 standby_id=$(jq -r '.[1].id' <<<"$before")
 say "JetStream: world demo has a leader (epoch $epoch_before) and a standby: $before"
 takeover_start=$SECONDS
 pm kill "$RUN_ID-leader" >/dev/null || die "podman kill of the leader failed"
 taken() {
-  roles | jq -e --arg id "$standby_id" --argjson e "$epoch_before" \
+  roles "$all_nodes" | jq -e --arg id "$standby_id" --argjson e "$epoch_before" \
     'length == 1 and .[0].id == $id and .[0].standby == false and .[0].epoch > $e' >/dev/null
 }
-until_ok 60 taken || { show_logs "$RUN_ID-standby"; die "JetStream: the standby did not take world demo over within 30 s: $(roles)"; }
+until_ok 60 taken || { show_logs "$RUN_ID-standby"; die "JetStream: the standby did not take world demo over within 30 s: $(roles "$all_nodes")"; }
 TAKEOVER_SECONDS=$((SECONDS - takeover_start))
 frames=$(nats_cli "$all_nodes" --world demo --json subscribe --count 3) || die "JetStream: no frames from the new leader"
-say "JetStream: the leader SIGKILLed, the standby leads (epoch $(roles | jq -r '.[0].epoch')) within $TAKEOVER_SECONDS s; frames: $(jq -sc '[.[].tick]' <<<"$frames")"
+say "JetStream: the leader SIGKILLed, the standby leads (epoch $(roles "$all_nodes" | jq -r '.[0].epoch')) within $TAKEOVER_SECONDS s; frames: $(jq -sc '[.[].tick]' <<<"$frames")"
 CLUSTER_SECONDS=$((SECONDS - cluster_start))
 fi
 
