@@ -190,16 +190,20 @@ TEST(NetLoadSmoke, StallWatchMarksTheSamplesThatSpanAStall) {
   EXPECT_EQ(over_goal_in_stall, number(report, "latency_over_goal_in_stall"));
   EXPECT_EQ(samples - static_cast<double>(outside_stalls_ms.size()), number(report, "latency_in_stall"));
   // The p99 outside the stalls is the nearest-rank quantile of the log's
-  // unmarked samples (the log has 3 decimals, the report 2).
+  // unmarked samples. The log has 3 decimals, the report 2, so the two
+  // roundings put the quantile's log value within 5 thousandths of the
+  // report's; compared in whole thousandths, as floating point would put
+  // a value exactly 5 thousandths off on either side.
   ASSERT_FALSE(outside_stalls_ms.empty());
-  const double p99 = number(report, "latency_ms_p99_outside_stalls");
+  const std::int64_t p99 = 10 * hundredths(report, "latency_ms_p99_outside_stalls");  // thousandths
   const auto rank = static_cast<std::ptrdiff_t>(std::ceil(0.99 * static_cast<double>(outside_stalls_ms.size())));
-  EXPECT_GE(
-      std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l <= p99 + 0.005; }),
-      rank);
-  EXPECT_LT(
-      std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(), [&](double l) { return l < p99 - 0.005; }),
-      rank);
+  const auto thousandths = [](double ms) { return std::llround(ms * 1000); };
+  EXPECT_GE(std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(),
+                          [&](double l) { return thousandths(l) <= p99 + 5; }),
+            rank);
+  EXPECT_LT(std::count_if(outside_stalls_ms.begin(), outside_stalls_ms.end(),
+                          [&](double l) { return thousandths(l) < p99 - 5; }),
+            rank);
   // The stall figures agree with each other exactly: a whole count, and
   // the total the sum of lengths in whole hundredths of a millisecond, each
   // at least the 2 ms that makes a stall (bench/net/stall_watch.h) and none
