@@ -319,12 +319,28 @@ TEST_F(ControlProtocolTest, AnUnknownEventKindIsInvalid) {
 TEST_F(ControlProtocolTest, AStreamOfFewerBodiesIsSentFirstInItsTick) {
   // Publisher order: cheapest stream first, whatever order they were made in.
   const std::uint64_t at = call(pause(1)).ack().applied_tick();
-  const ServerMessage all = call(subscribe_to_fields(2, 240, tumble::v1::POSE_FIELDS_POSE));
-  const ServerMessage ball = call(subscribe_to_fields(3, 240, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"}));
+  // Each stream's first frame (of the paused tick) is read before the step:
+  // one still unsent would be replaced in its place in the queue by the
+  // stepped tick's, and the order read would be the order of subscribing.
+  const auto subscribe_and_read_first_frame = [&](const ClientMessage& subscribe) {
+    EXPECT_TRUE(client_.send(subscribe));
+    ServerMessage reply;
+    bool framed = false;
+    EXPECT_TRUE(client_.read_until([&](const ServerMessage& m) {
+      if (is_reply_to(m, subscribe.request_id())) reply = m;
+      // Paused: the only frame is the new stream's first.
+      framed = framed || (m.has_pose_frame() && m.pose_frame().tick() == at);
+      return reply.has_subscribed() && framed;
+    })) << "the Subscribed reply and the first frame of request "
+        << subscribe.request_id();
+    return reply;
+  };
+  const ServerMessage all = subscribe_and_read_first_frame(subscribe_to_fields(2, 240, tumble::v1::POSE_FIELDS_POSE));
+  const ServerMessage ball =
+      subscribe_and_read_first_frame(subscribe_to_fields(3, 240, tumble::v1::POSE_FIELDS_POSE, {}, {"ball"}));
   ASSERT_TRUE(all.has_subscribed() && ball.has_subscribed());
   // The frames of the stepped tick may come before the Step's Ack or after
-  // it: a publication already queued on the I/O thread carries the newest
-  // snapshot, so both are read together.
+  // it, so both are read together.
   ASSERT_TRUE(client_.send(step(4, 1)));
   std::vector<std::uint32_t> order;
   bool acked = false;
