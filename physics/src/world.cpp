@@ -202,6 +202,7 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   if (contacts_.capacity() < kContactSlotsPerBody * records_.size()) {
     contacts_.reserve(kContactSlotsPerBody * records_.capacity());
     links_.reserve(kContactSlotsPerBody * records_.capacity());
+    pairs_.reserve(kContactSlotsPerBody * records_.capacity());
     solver_.reserve(kTouchingContactsPerBody * records_.capacity());
   }
 

@@ -54,15 +54,8 @@ bool World::Impl::can_collide(std::size_t a, std::size_t b) const {
 }
 
 std::uint32_t World::Impl::find_contact(std::uint32_t a, std::uint32_t b) const {
-  // Walk the shorter of the two lists.
-  if (records_[b].contact_count < records_[a].contact_count) std::swap(a, b);
-  for (ContactKey key = records_[a].contact_head; key != kNullContactKey;) {
-    const ContactLink& link = links_[key >> 1];
-    const std::uint32_t side = key & 1;
-    if ((side == 0 ? link.body_b : link.body_a) == b) return key >> 1;
-    key = link.next[side];
-  }
-  return kNoIndex;
+  static_assert(PairSet::kNotFound == kNoIndex);
+  return pairs_.find(a, b);
 }
 
 void World::Impl::create_contact(std::uint32_t a, std::uint32_t b) {
@@ -82,6 +75,7 @@ void World::Impl::create_contact(std::uint32_t a, std::uint32_t b) {
   link.alive = true;
   link.body_a = a;
   link.body_b = b;
+  pairs_.insert(a, b, slot);
   const std::uint32_t bodies[2] = {a, b};
   for (std::uint32_t side = 0; side < 2; ++side) {
     BodyRecord& record = records_[bodies[side]];
@@ -90,7 +84,6 @@ void World::Impl::create_contact(std::uint32_t a, std::uint32_t b) {
     link.next[side] = record.contact_head;
     if (record.contact_head != kNullContactKey) links_[record.contact_head >> 1].prev[record.contact_head & 1] = key;
     record.contact_head = key;
-    ++record.contact_count;
   }
 }
 
@@ -107,8 +100,8 @@ void World::Impl::destroy_contact(std::uint32_t slot) {
       record.contact_head = next;
     }
     if (next != kNullContactKey) links_[next >> 1].prev[next & 1] = prev;
-    --record.contact_count;
   }
+  pairs_.erase(link.body_a, link.body_b);
   link.alive = false;
   link.touching = false;
   free_contacts_.push_back(slot);
@@ -128,6 +121,9 @@ void World::Impl::relabel_body(std::uint32_t from, std::uint32_t to) {
   for (ContactKey key = records_[from].contact_head; key != kNullContactKey;) {
     ContactLink& link = links_[key >> 1];
     const std::uint32_t side = key & 1;
+    const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
+    pairs_.erase(from, other);
+    pairs_.insert(to, other, key >> 1);
     (side == 0 ? link.body_a : link.body_b) = to;
     key = link.next[side];
   }

@@ -17,6 +17,7 @@
 #include "contact_solver.h"
 #include "dynamic_tree.h"
 #include "joint_solver.h"
+#include "pair_set.h"
 #include "transform.h"
 #include "tumble/physics/body.h"
 #include "tumble/physics/math.h"
@@ -121,7 +122,6 @@ class World::Impl {
     Vec3 kinematic_angular_velocity = Vec3::Zero();
     std::int32_t proxy = DynamicTree::kNull;  // leaf in static_tree_ or movable_tree_
     ContactKey contact_head = kNullContactKey;
-    std::uint32_t contact_count = 0;
   };
 
   std::size_t dense_index(BodyId id) const;
@@ -238,6 +238,7 @@ class World::Impl {
   // step. links_[k] is the hot part of contacts_[k] (contact.h).
   std::vector<Contact> contacts_;
   std::vector<ContactLink> links_;
+  PairSet pairs_;  // each alive contact's bodies, with its slot
   std::vector<std::uint32_t> free_contacts_;
   std::vector<std::uint32_t> active_;
   // Scratch of update_contacts(): the slots updated in parallel and what
