@@ -30,6 +30,18 @@ constexpr double kReuseCosHalfAngle = 0.99996192306417131;
 // touching pairs make tasks for every thread.
 constexpr std::size_t kPairsPerTask = 64;
 
+// A Contact is hundreds of bytes and the pairs' contacts are far apart in
+// memory: each is asked of the cache this many pairs before it is updated.
+constexpr std::size_t kPrefetchAhead = 4;
+
+// Asks the cache for the lines of c that update_manifold() reads first: the
+// cache key at its end, and the manifold at its start.
+void prefetch_contact(const Contact& c) {
+  __builtin_prefetch(&c.cached_position);
+  __builtin_prefetch(&c.cached_max_separation);
+  __builtin_prefetch(&c.manifold);
+}
+
 // What update_contact() asks of finish_contact_update(), as bits.
 constexpr std::uint8_t kContactDestroy = 1;   // the fat boxes no longer overlap
 constexpr std::uint8_t kContactCollided = 2;  // the manifold was updated (computed or reused)
@@ -217,7 +229,10 @@ void World::Impl::update_contacts() {
   const std::size_t tasks = (updating_.size() + kPairsPerTask - 1) / kPairsPerTask;
   auto update_pairs = [this](std::size_t task) {
     const std::size_t end = std::min(updating_.size(), (task + 1) * kPairsPerTask);
-    for (std::size_t k = task * kPairsPerTask; k < end; ++k) updates_[k] = update_contact(updating_[k]);
+    for (std::size_t k = task * kPairsPerTask; k < end; ++k) {
+      if (k + kPrefetchAhead < end) prefetch_contact(contacts_[updating_[k + kPrefetchAhead]]);
+      updates_[k] = update_contact(updating_[k]);
+    }
   };
   TaskSystem* task_system = this->tasks();
   if (task_system != nullptr && task_system->thread_count() > 1 && tasks > 1) {
