@@ -4,13 +4,17 @@
 // points and by joints; static and kinematic bodies do not connect islands (a floor
 // under two separate piles keeps them separate). Each step every awake
 // dynamic body counts the time it has stayed still: near the pose where
-// the count started, and not speeding up (SleepProgress). An island whose
-// bodies have all been still for time_to_sleep, are all slower than the
-// sleep speed, and that touches something, falls asleep as a whole: its
-// bodies stop being integrated and their contacts are neither updated nor
-// solved. Anything that disturbs one of its bodies wakes the whole island
-// (Catto, "Box2D" b2Island; Baraff's notes leave sleeping out). The
-// islands of a step are built once, by the contact solver
+// the count started, and not speeding up (SleepProgress). Within an island,
+// a sleep group is a set of bodies joined by joints and by contacts that
+// touch or can touch within the step; a group whose bodies have all been
+// still for time_to_sleep, are all slower than the sleep speed, and that
+// touches something, falls asleep as a whole: its bodies stop being
+// integrated, their contacts are neither updated nor solved, and to an
+// awake body merely near one of them (its speculative contact) a sleeping
+// body is of infinite mass. Anything that disturbs one of its bodies, or
+// comes to touch it, wakes the whole group and the sleeping bodies
+// touching it (Catto, "Box2D" b2Island; Baraff's notes leave sleeping
+// out). The islands of a step are built once, by the contact solver
 // (contact_islands.h), and read here.
 #include <algorithm>
 #include <span>
@@ -31,6 +35,16 @@ namespace {
 constexpr std::uint32_t kRisingSteps = 10;
 constexpr double kRiseFactor = 1.5;
 constexpr double kRiseFloor = 0.1;
+
+// A contact's points within this gap (m) touch, for sleeping and waking:
+// a resting contact sits at or below zero, and bodies at rest side by side
+// a few millimetres apart are not one heap (Box2D's linear slop).
+constexpr double kTouchSlop = 0.005;
+
+// What a sleep group holds, at its root in sleep_flags_.
+constexpr std::uint8_t kGroupNotReady = 1;  // a body not yet ready to sleep
+constexpr std::uint8_t kGroupTouches = 2;   // a contact that touches, or a joint
+constexpr std::uint8_t kGroupCarried = 4;   // a kinematic body in motion
 
 }  // namespace
 
@@ -82,39 +96,107 @@ void World::Impl::update_sleep(double dt) {
   }
   if (!any_ready) return;
 
-  // The islands the solver built from this step's touching contacts
-  // (contact_islands.h): an island sleeps when every body in it has been
-  // slow long enough and no kinematic body in motion carries it. Each
-  // island's bodies are awake (touching a sleeping body wakes its island)
-  // and it has a contact, so it touches something.
+  // The islands the solver built from this step's contacts with points
+  // (contact_islands.h), split into sleep groups: bodies joined by joints
+  // and by contacts that touch or may touch this step (may_touch). A
+  // contact whose points are all farther apart than that is a speculative
+  // one between bodies at rest near each other: the two sides may sleep
+  // apart, and a side asleep is of infinite mass to the other until they
+  // touch (finish_contact_update). A group sleeps when every body in it has
+  // been slow long enough, it touches something, and no kinematic body in
+  // motion carries it.
+  if (sleep_parent_.size() < records_.size()) {
+    sleep_parent_.resize(records_.size());
+    sleep_flags_.resize(records_.size());
+  }
   const ContactIslands& islands = solver_.islands();
   const std::span<const std::uint32_t> bodies = islands.bodies();
   const std::span<const ContactConstraint> constraints = islands.constraints();
   const std::span<const JointConstraint> joints = islands.joints();
+  auto in_group = [&](std::uint32_t body) {
+    return body != kNoJointBody && records_[body].motion_type == MotionType::dynamic_body && awake_[body];
+  };
   auto moving_kinematic = [&](std::uint32_t body) {
-    return records_[body].motion_type == MotionType::kinematic_body && awake_[body];
+    return body != kNoJointBody && records_[body].motion_type == MotionType::kinematic_body && awake_[body];
+  };
+  auto unite = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t root_a = sleep_root(a), root_b = sleep_root(b);
+    if (root_a < root_b) sleep_parent_[root_b] = root_a;
+    if (root_b < root_a) sleep_parent_[root_a] = root_b;
+  };
+  // Marks the group of each side of a constraint that is in one.
+  auto mark = [&](std::uint32_t a, std::uint32_t b, std::uint8_t flags) {
+    if (in_group(a)) sleep_flags_[sleep_root(a)] |= flags;
+    if (in_group(b)) sleep_flags_[sleep_root(b)] |= flags;
   };
   for (const ContactIsland& island : islands.islands()) {
     const std::span<const std::uint32_t> members = bodies.subspan(island.first_body, island.body_count);
-    bool can_sleep =
-        std::all_of(members.begin(), members.end(), [&](std::uint32_t body) { return ready_to_sleep(records_[body]); });
-    for (std::uint32_t k = 0; can_sleep && k < island.constraint_count; ++k) {
-      const ContactConstraint& c = constraints[island.first_constraint + k];
-      can_sleep = !moving_kinematic(c.body_a) && !moving_kinematic(c.body_b);
+    const std::span<const ContactConstraint> contacts =
+        constraints.subspan(island.first_constraint, island.constraint_count);
+    const std::span<const JointConstraint> island_joints = joints.subspan(island.first_joint, island.joint_count);
+    if (std::none_of(members.begin(), members.end(),
+                     [&](std::uint32_t body) { return ready_to_sleep(records_[body]); })) {
+      continue;
     }
-    for (std::uint32_t k = 0; can_sleep && k < island.joint_count; ++k) {
-      const JointConstraint& j = joints[island.first_joint + k];
-      can_sleep = (j.body_a == kNoJointBody || !moving_kinematic(j.body_a)) &&
-                  (j.body_b == kNoJointBody || !moving_kinematic(j.body_b));
+    for (std::uint32_t body : members) {
+      sleep_parent_[body] = body;
+      sleep_flags_[body] = 0;
     }
-    if (!can_sleep) continue;
-    for (std::uint32_t body : members) put_to_sleep(body);
+    sleep_touches_.resize(contacts.size());
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      const ContactConstraint& c = contacts[k];
+      sleep_touches_[k] = may_touch(c.contact) ? 1 : 0;
+      if (sleep_touches_[k] != 0 && in_group(c.body_a) && in_group(c.body_b)) unite(c.body_a, c.body_b);
+    }
+    for (const JointConstraint& j : island_joints) {
+      if (in_group(j.body_a) && in_group(j.body_b)) unite(j.body_a, j.body_b);
+    }
+    for (std::uint32_t body : members) {
+      if (!ready_to_sleep(records_[body])) sleep_flags_[sleep_root(body)] |= kGroupNotReady;
+    }
+    for (std::size_t k = 0; k < contacts.size(); ++k) {
+      const ContactConstraint& c = contacts[k];
+      mark(c.body_a, c.body_b,
+           static_cast<std::uint8_t>((sleep_touches_[k] != 0 ? kGroupTouches : 0) |
+                                     (moving_kinematic(c.body_a) || moving_kinematic(c.body_b) ? kGroupCarried : 0)));
+    }
+    for (const JointConstraint& j : island_joints) {
+      mark(j.body_a, j.body_b,
+           static_cast<std::uint8_t>(kGroupTouches |
+                                     (moving_kinematic(j.body_a) || moving_kinematic(j.body_b) ? kGroupCarried : 0)));
+    }
+    for (std::uint32_t body : members) {
+      if (sleep_flags_[sleep_root(body)] == kGroupTouches) put_to_sleep(body);
+    }
   }
+}
+
+std::uint32_t World::Impl::sleep_root(std::uint32_t body) {
+  // Path halving.
+  while (sleep_parent_[body] != body) {
+    sleep_parent_[body] = sleep_parent_[sleep_parent_[body]];
+    body = sleep_parent_[body];
+  }
+  return body;
+}
+
+bool World::Impl::may_touch(std::uint32_t slot) const {
+  const ContactLink& link = links_[slot];
+  const Manifold& m = contacts_[slot].manifold;
+  const double reach = kTouchSlop + records_[link.body_a].reach + records_[link.body_b].reach;
+  for (int k = 0; k < m.point_count; ++k) {
+    if (m.points[k].separation <= reach) return true;
+  }
+  return false;
 }
 
 void World::Impl::put_to_sleep(std::uint32_t body) {
   BodyRecord& record = records_[body];
   awake_[body] = 0;
+  // Of infinite mass to the solver while asleep: an awake body near it (a
+  // contact that does not touch, see update_sleep) stops against it.
+  inverse_masses_[body] = 0;
+  inverse_inertia_[body].setZero();
   record.reach = 0;
   states_[body].linear_momentum.setZero();
   states_[body].angular_momentum.setZero();
@@ -137,10 +219,11 @@ void World::Impl::wake_island(std::uint32_t body) {
     external_[i] = SolverVelocity{};
     refresh_solver_data(i);
     for (ContactKey key = record.contact_head; key != kNullContactKey;) {
-      const ContactLink& link = links_[key >> 1];
+      const std::uint32_t slot = key >> 1;
+      const ContactLink& link = links_[slot];
       const std::uint32_t side = key & 1;
       key = link.next[side];
-      if (!link.touching) continue;
+      if (!link.touching || !may_touch(slot)) continue;
       const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
       BodyRecord& other_record = records_[other];
       if (other_record.motion_type != MotionType::dynamic_body || awake_[other]) continue;

@@ -107,7 +107,14 @@ void World::Impl::refresh_solver_data(std::size_t i) {
   transforms_[i] = Transform{state.position, state.orientation.toRotationMatrix()};
   if (is_dynamic(i)) {
     const Mat3& r = transforms_[i].rotation;
-    inverse_inertia_[i] = body_to_world_tensor(r, masses_[i].inverse_inertia_body);
+    // A sleeping body is of infinite mass to the solver (put_to_sleep()).
+    if (awake_[i]) {
+      inverse_masses_[i] = masses_[i].inverse_mass;
+      inverse_inertia_[i] = body_to_world_tensor(r, masses_[i].inverse_inertia_body);
+    } else {
+      inverse_masses_[i] = 0;
+      inverse_inertia_[i].setZero();
+    }
     velocities_[i] = {state.linear_momentum * masses_[i].inverse_mass, inverse_inertia_[i] * state.angular_momentum};
   } else if (records_[i].motion_type == MotionType::kinematic_body) {
     velocities_[i] = {records_[i].kinematic_linear_velocity, records_[i].kinematic_angular_velocity};
@@ -192,6 +199,8 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   if (island_stack_.capacity() < records_.size()) {
     island_stack_.reserve(records_.capacity());
     woken_.reserve(records_.capacity());
+    sleep_parent_.reserve(records_.capacity());
+    sleep_flags_.reserve(records_.capacity());
   }
   // Contacts: address space for a few a body, reserved as bodies come and
   // written only as slots are used. Otherwise the landing of a pile, whose
@@ -204,6 +213,7 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
     links_.reserve(kContactSlotsPerBody * records_.capacity());
     pairs_.reserve(kContactSlotsPerBody * records_.capacity());
     solver_.reserve(kTouchingContactsPerBody * records_.capacity());
+    sleep_touches_.reserve(kTouchingContactsPerBody * records_.capacity());
   }
 
   if (desc.shape.type == ShapeType::plane) {

@@ -197,6 +197,10 @@ class World::Impl {
   bool ready_to_sleep(const BodyRecord& record) const;
   void wake_island(std::uint32_t body);
   void put_to_sleep(std::uint32_t body);
+  // Whether the contact in `slot` touches, or its bodies can close its gap
+  // within this step: a point within kTouchSlop plus both bodies' reach.
+  bool may_touch(std::uint32_t slot) const;
+  std::uint32_t sleep_root(std::uint32_t body);
 
   WorldSettings settings_;
   Vec3 gravity_;
@@ -268,8 +272,13 @@ class World::Impl {
 
   // Scratch of wake_island()'s flood.
   std::vector<std::uint32_t> island_stack_;
-  std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
-  bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
+  // Scratch of update_sleep(): by body, its parent in the forest of an
+  // island's sleep groups, and at a group's root what the group holds.
+  std::vector<std::uint32_t> sleep_parent_;
+  std::vector<std::uint8_t> sleep_flags_;
+  std::vector<std::uint8_t> sleep_touches_;  // by an island's contact: may_touch()
+  std::vector<std::uint32_t> woken_;         // bodies wake_island() woke during update_contacts()
+  bool collecting_woken_ = false;            // in update_contacts(): wake_island() adds to woken_
 
   StepStats stats_;
   std::vector<BodyId> diverged_;  // diverged_bodies() of the last step

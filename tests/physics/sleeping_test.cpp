@@ -1,6 +1,8 @@
 // Islands and sleeping: resting islands fall asleep, cost nothing while
 // asleep (a 100-box pile included), and wake as a whole when disturbed; a
-// box balanced just past its edge topples instead of sleeping there.
+// box balanced just past its edge topples instead of sleeping there; bodies
+// near each other but not touching sleep apart, and one about to strike a
+// sleeping body wakes it first.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,6 +98,50 @@ TEST(SleepingTest, AThinBoxReleasedJustPastBalanceEndsLyingDown) {
   EXPECT_NEAR(toppled.height, 0.05, 0.005);
   EXPECT_TRUE(toppled.asleep);
   EXPECT_NEAR(tip(half, 5.5, 0.0).height, 0.5, 0.005);
+}
+
+// Two boxes on the ground a centimetre apart, within the contact margin:
+// the pair has speculative points but does not touch. One slides past the
+// other on frictionless feet at twice the sleep speed; the other, at rest,
+// falls asleep on its own instead of waiting for it.
+TEST(SleepingTest, ABoxAtRestBesideOneSlidingPastSleepsOnItsOwn) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId resting = world.add_body(box_body(Vec3(0, 0.5, 0)));
+  BodyDesc desc = box_body(Vec3(1.01, 0.5, -0.4));
+  desc.friction = 0;  // sqrt(0 * 0.5): no friction with the ground
+  desc.linear_velocity = Vec3(0, 0, 0.1);
+  const BodyId sliding = world.add_body(desc);
+  for (int i = 0; i < static_cast<int>(2.0 / kTick); ++i) world.step(kTick);
+  EXPECT_FALSE(world.is_awake(resting));
+  EXPECT_TRUE(world.is_awake(sliding));
+  EXPECT_NEAR(world.linear_velocity(sliding).z(), 0.1, 1e-6);
+  EXPECT_NEAR(world.position(sliding).x(), 1.01, 1e-6);
+  // Four points on the ground each, and the pair's own: it is near enough
+  // to have points all along.
+  EXPECT_GT(world.contact_point_count(), 8u);
+}
+
+// A box slides at 3 m/s towards a sleeping one a centimetre away: it can
+// close the gap within the step, so the sleeping box wakes before the
+// solve and is knocked along, not met as a wall of infinite mass.
+TEST(SleepingTest, ASleepingBoxIsKnockedByOneThatReachesItWithinAStep) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId struck = world.add_body(box_body(Vec3(0, 0.5, 0)));
+  ASSERT_GT(time_to_sleep(world, {struck}, 3.0), 0);
+  BodyDesc desc = box_body(Vec3(-1.01, 0.5, 0));
+  desc.friction = 0;
+  desc.linear_velocity = Vec3(3, 0, 0);
+  const BodyId striker = world.add_body(desc);
+  world.step(kTick);
+  EXPECT_TRUE(world.is_awake(struck));
+  for (int i = 0; i < static_cast<int>(1.0 / kTick); ++i) world.step(kTick);
+  // An inelastic hit of equal masses leaves both at 1.5 m/s; friction then
+  // stops the struck box within (1.5 m/s)^2 / (2 * 0.5 g) = 0.23 m while
+  // the frictionless striker keeps pushing it.
+  EXPECT_GT(world.position(struck).x(), 0.2);
+  EXPECT_GT(world.position(striker).x(), -0.81);
 }
 
 TEST(SleepingTest, SettledStackFallsAsleep) {
