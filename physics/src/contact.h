@@ -34,6 +34,9 @@ struct ContactLink {
   std::uint64_t updated_pass = 0;  // World's contact pass that last updated it
   bool alive = false;
   bool touching = false;  // the manifold has points
+  // It has a point that touches or that the bodies can reach within the
+  // step (World::Impl::may_touch): what joins a sleep group (island.cpp).
+  bool may_touch = false;
   // The bodies' step boxes were apart at the last update (no points
   // possible); while neither box changes the pair needs no look.
   bool apart = false;

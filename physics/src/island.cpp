@@ -142,11 +142,8 @@ void World::Impl::update_sleep(double dt) {
       sleep_parent_[body] = body;
       sleep_flags_[body] = 0;
     }
-    sleep_touches_.resize(contacts.size());
-    for (std::size_t k = 0; k < contacts.size(); ++k) {
-      const ContactConstraint& c = contacts[k];
-      sleep_touches_[k] = may_touch(c.contact) ? 1 : 0;
-      if (sleep_touches_[k] != 0 && in_group(c.body_a) && in_group(c.body_b)) unite(c.body_a, c.body_b);
+    for (const ContactConstraint& c : contacts) {
+      if (c.may_touch && in_group(c.body_a) && in_group(c.body_b)) unite(c.body_a, c.body_b);
     }
     for (const JointConstraint& j : island_joints) {
       if (in_group(j.body_a) && in_group(j.body_b)) unite(j.body_a, j.body_b);
@@ -154,10 +151,9 @@ void World::Impl::update_sleep(double dt) {
     for (std::uint32_t body : members) {
       if (!ready_to_sleep(records_[body])) sleep_flags_[sleep_root(body)] |= kGroupNotReady;
     }
-    for (std::size_t k = 0; k < contacts.size(); ++k) {
-      const ContactConstraint& c = contacts[k];
+    for (const ContactConstraint& c : contacts) {
       mark(c.body_a, c.body_b,
-           static_cast<std::uint8_t>((sleep_touches_[k] != 0 ? kGroupTouches : 0) |
+           static_cast<std::uint8_t>((c.may_touch ? kGroupTouches : 0) |
                                      (moving_kinematic(c.body_a) || moving_kinematic(c.body_b) ? kGroupCarried : 0)));
     }
     for (const JointConstraint& j : island_joints) {
@@ -223,7 +219,7 @@ void World::Impl::wake_island(std::uint32_t body) {
       const ContactLink& link = links_[slot];
       const std::uint32_t side = key & 1;
       key = link.next[side];
-      if (!link.touching || !may_touch(slot)) continue;
+      if (!link.may_touch) continue;
       const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
       BodyRecord& other_record = records_[other];
       if (other_record.motion_type != MotionType::dynamic_body || awake_[other]) continue;

@@ -213,7 +213,6 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
     links_.reserve(kContactSlotsPerBody * records_.capacity());
     pairs_.reserve(kContactSlotsPerBody * records_.capacity());
     solver_.reserve(kTouchingContactsPerBody * records_.capacity());
-    sleep_touches_.reserve(kTouchingContactsPerBody * records_.capacity());
   }
 
   if (desc.shape.type == ShapeType::plane) {

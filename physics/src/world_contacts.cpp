@@ -116,6 +116,7 @@ void World::Impl::destroy_contact(std::uint32_t slot) {
   pairs_.erase(link.body_a, link.body_b);
   link.alive = false;
   link.touching = false;
+  link.may_touch = false;
   free_contacts_.push_back(slot);
 }
 
@@ -288,6 +289,7 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
   link.apart = !can_touch;
   if (!overlap) {
     link.touching = false;  // no flood of wake_island() crosses a pair on its way out
+    link.may_touch = false;
     return kContactDestroy;
   }
   if (!can_touch) {
@@ -296,6 +298,7 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
       c.manifold.point_count = 0;
       c.cached_max_separation = -1;  // the anchors describe points that are gone
       link.touching = false;
+      link.may_touch = false;
     }
     return 0;
   }
@@ -304,6 +307,7 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
   std::uint8_t update = kContactCollided;
   if (update_manifold(c, slot)) update |= kContactComputed;
   link.touching = c.manifold.point_count > 0;
+  link.may_touch = link.touching && may_touch(slot);
   if (link.touching) update |= kContactTouching;
   return update;
 }
@@ -319,7 +323,7 @@ void World::Impl::finish_contact_update(std::uint32_t slot, std::uint8_t update)
   // Touching a sleeping body wakes its island; one merely near stays
   // asleep, of infinite mass to the solver (island.cpp).
   const ContactLink& link = links_[slot];
-  if ((!awake_[link.body_a] || !awake_[link.body_b]) && may_touch(slot)) {
+  if ((!awake_[link.body_a] || !awake_[link.body_b]) && link.may_touch) {
     wake_island(link.body_a);
     wake_island(link.body_b);
   }

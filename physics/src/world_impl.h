@@ -276,9 +276,8 @@ class World::Impl {
   // island's sleep groups, and at a group's root what the group holds.
   std::vector<std::uint32_t> sleep_parent_;
   std::vector<std::uint8_t> sleep_flags_;
-  std::vector<std::uint8_t> sleep_touches_;  // by an island's contact: may_touch()
-  std::vector<std::uint32_t> woken_;         // bodies wake_island() woke during update_contacts()
-  bool collecting_woken_ = false;            // in update_contacts(): wake_island() adds to woken_
+  std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
+  bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
 
   StepStats stats_;
   std::vector<BodyId> diverged_;  // diverged_bodies() of the last step
