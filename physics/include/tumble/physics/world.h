@@ -19,14 +19,17 @@
 //      for new pairs; planes are tested against every awake body's box;
 //   3. narrowphase (src/collide.h) updates each pair with an awake body, in
 //      parallel; then, in slot order, pairs that no longer overlap are
-//      destroyed and touching a sleeping body wakes its island;
+//      destroyed and touching a sleeping body (or coming within reach of
+//      it this step) wakes its group;
 //   4. sequential impulses in substeps (src/contact_solver.h) change v and w,
 //      the joints' rows (src/joint_solver.h) with the contacts';
 //      then P = M v and L = I w;
 //   5. positions and orientations advance from P and L (src/integrator.h), plus
 //      the solver's correction towards its substep motion;
-//   6. islands of bodies connected by touching contacts and joints that have
-//      all been slow for time_to_sleep fall asleep (src/island.cpp);
+//   6. groups of bodies connected by joints and by contacts that touch or
+//      can touch within the step, that have all been slow for
+//      time_to_sleep, fall asleep (src/island.cpp); to an awake body a
+//      sleeping one is of infinite mass until they touch;
 //   7. joints whose force or torque exceeded their break limits are removed
 //      (broken_joints).
 // Step 5 also checks each body it moved against
@@ -231,7 +234,7 @@ class World {
   std::span<const JointId> broken_joints() const;
 
   // Sleeping. wake() wakes a sleeping dynamic body and every sleeping body
-  // connected to it by touching contacts (its island).
+  // connected to it by joints and touching contacts (its group).
   void wake(BodyId id);
   // Dynamic: not sleeping. Kinematic: moving. Static: false.
   bool is_awake(BodyId id) const;
