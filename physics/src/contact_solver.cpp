@@ -162,9 +162,13 @@ void ContactSolver::solve_pass(const Group& group, bool soft) {
       const Float4 limit = w.friction * p.normal.impulse;
       const Float4 length2 = new1 * new1 + new2 * new2;
       const Mask4 outside = length2 > limit * limit;
-      const Float4 scale = select4(outside, limit / sqrt4(max4(length2, splat4(1e-30f))), one);
-      new1 *= scale;
-      new2 *= scale;
+      // Mostly every lane sticks (a resting pile): then nothing is scaled,
+      // and the division and square root are skipped.
+      if (any4(outside)) {
+        const Float4 scale = select4(outside, limit / sqrt4(max4(length2, splat4(1e-30f))), one);
+        new1 *= scale;
+        new2 *= scale;
+      }
       const Float4 d1 = new1 - p.tangent1.impulse, d2 = new2 - p.tangent2.impulse;
       p.tangent1.impulse = new1;
       p.tangent2.impulse = new2;

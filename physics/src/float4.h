@@ -29,6 +29,15 @@ inline Float4 select4(Mask4 mask, Float4 a, Float4 b) {
 inline Float4 max4(Float4 a, Float4 b) { return select4(a > b, a, b); }
 inline Float4 min4(Float4 a, Float4 b) { return select4(a < b, a, b); }
 
+// Whether any lane of mask is set.
+inline bool any4(Mask4 mask) {
+#if defined(__SSE__)
+  return _mm_movemask_ps(std::bit_cast<__m128>(mask)) != 0;
+#else
+  return (mask[0] | mask[1] | mask[2] | mask[3]) != 0;
+#endif
+}
+
 inline Float4 sqrt4(Float4 x) {
 #if defined(__SSE__)
   return std::bit_cast<Float4>(_mm_sqrt_ps(std::bit_cast<__m128>(x)));
