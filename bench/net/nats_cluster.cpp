@@ -1,5 +1,7 @@
 #include "nats_cluster.h"
 
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 
@@ -47,6 +49,23 @@ NatsCluster::NatsCluster(std::string nats_server_path, std::string dir, NatsClus
 }
 
 std::string NatsCluster::start(std::chrono::seconds timeout) {
+  // nats-server 2.9's three nodes dialling each other at once can close
+  // routes as duplicates and, rarely, leave one node without a metadata
+  // leader for good (seen once in a loaded test run: 60 s, no leader).
+  // Such a start is abandoned after half the time and made once more from
+  // empty stores; the first attempt's reason goes to stderr.
+  const std::string first = start_once(timeout / 2);
+  if (first.empty()) return "";
+  std::fprintf(stderr, "nats_cluster: starting the cluster again: %s\n", first.c_str());
+  for (std::size_t i = 0; i < kNodes; ++i) {
+    nodes_[i].reset();
+    std::filesystem::remove(log_path(dir_, i));
+    std::filesystem::remove_all(dir_ + "/js" + std::to_string(i));
+  }
+  return start_once(timeout - timeout / 2);
+}
+
+std::string NatsCluster::start_once(std::chrono::seconds timeout) {
   for (std::size_t i = 0; i < kNodes; ++i) {
     nodes_[i] = std::make_unique<ChildProcess>(std::vector<std::string>{path_, "-c", config_path(dir_, i)},
                                                log_path(dir_, i), options_.nice);

@@ -35,7 +35,8 @@ class NatsCluster {
   NatsCluster(std::string nats_server_path, std::string dir, NatsClusterOptions options = {});
 
   // Starts the three nodes and waits until each is ready and routed to both
-  // others (with JetStream, until the metadata leader is known to each).
+  // others (with JetStream, until the metadata leader is known to each); a
+  // start that has not got there in half the timeout is made once more.
   // Empty on success, else why not (with the failing node's log).
   std::string start(std::chrono::seconds timeout);
 
@@ -46,6 +47,8 @@ class NatsCluster {
   pid_t pid(std::size_t i) const { return nodes_[i] ? nodes_[i]->pid() : 0; }
 
  private:
+  std::string start_once(std::chrono::seconds timeout);
+
   std::string path_;
   std::string dir_;
   NatsClusterOptions options_;
