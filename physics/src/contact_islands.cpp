@@ -1,5 +1,7 @@
 #include "contact_islands.h"
 
+#include "union_find.h"
+
 namespace tumble::physics {
 namespace {
 
@@ -7,15 +9,6 @@ namespace {
 constexpr std::uint32_t kNone = 0xffffffff;
 
 }  // namespace
-
-std::uint32_t ContactIslands::root(std::uint32_t body) {
-  // Union-find with path halving.
-  while (parent_[body] != body) {
-    parent_[body] = parent_[parent_[body]];
-    body = parent_[body];
-  }
-  return body;
-}
 
 void ContactIslands::add_body(std::uint32_t body, std::span<const double> inverse_mass) {
   if (body == kNoJointBody || inverse_mass[body] == 0 || listed_[body]) return;
@@ -52,13 +45,9 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
   auto join = [&](std::uint32_t a, std::uint32_t b) {
     if (dynamic(a) && parent_[a] == kNone) parent_[a] = a;
     if (dynamic(b) && parent_[b] == kNone) parent_[b] = b;
-    if (dynamic(a) && dynamic(b)) {
-      const std::uint32_t root_a = root(a), root_b = root(b);
-      // The smaller index becomes the root, so the forest's shape depends
-      // only on the order of the contacts and joints.
-      if (root_a < root_b) parent_[root_b] = root_a;
-      if (root_b < root_a) parent_[root_a] = root_b;
-    }
+    // The forest's shape depends only on the order of the contacts and
+    // joints (union_find.h).
+    if (dynamic(a) && dynamic(b)) unite(parent_, a, b);
   };
   for (std::uint32_t index : active) {
     if (contacts[index].manifold.point_count == 0) continue;
@@ -76,7 +65,7 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
     const std::uint32_t a = links[index].body_a, b = links[index].body_b;
     std::uint32_t island = kNone;
     if (dynamic(a) || dynamic(b)) {
-      const std::uint32_t r = root(dynamic(a) ? a : b);
+      const std::uint32_t r = find_root(parent_, dynamic(a) ? a : b);
       if (island_of_root_[r] == kNone) {
         island_of_root_[r] = static_cast<std::uint32_t>(islands_.size());
         islands_.emplace_back();
@@ -94,7 +83,7 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
   island_of_joint_.resize(joints.size());
   for (std::size_t k = 0; k < joints.size(); ++k) {
     const JointConstraint& j = joints[k];
-    const std::uint32_t r = root(dynamic(j.body_a) ? j.body_a : j.body_b);
+    const std::uint32_t r = find_root(parent_, dynamic(j.body_a) ? j.body_a : j.body_b);
     if (island_of_root_[r] == kNone) {
       island_of_root_[r] = static_cast<std::uint32_t>(islands_.size());
       islands_.emplace_back();

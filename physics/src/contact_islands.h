@@ -87,7 +87,6 @@ class ContactIslands {
   std::size_t point_count() const { return point_count_; }
 
  private:
-  std::uint32_t root(std::uint32_t body);
   void add_body(std::uint32_t body, std::span<const double> inverse_mass);
 
   // The first constraint_count_ entries (the vector only grows).

@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <span>
 
+#include "union_find.h"
 #include "world_impl.h"
 
 namespace tumble::physics {
@@ -119,11 +120,7 @@ void World::Impl::update_sleep(double dt) {
   auto moving_kinematic = [&](std::uint32_t body) {
     return body != kNoJointBody && records_[body].motion_type == MotionType::kinematic_body && awake_[body];
   };
-  auto unite = [&](std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t root_a = sleep_root(a), root_b = sleep_root(b);
-    if (root_a < root_b) sleep_parent_[root_b] = root_a;
-    if (root_b < root_a) sleep_parent_[root_a] = root_b;
-  };
+  auto sleep_root = [&](std::uint32_t body) { return find_root(sleep_parent_, body); };
   // Marks the group of each side of a constraint that is in one.
   auto mark = [&](std::uint32_t a, std::uint32_t b, std::uint8_t flags) {
     if (in_group(a)) sleep_flags_[sleep_root(a)] |= flags;
@@ -143,10 +140,10 @@ void World::Impl::update_sleep(double dt) {
       sleep_flags_[body] = 0;
     }
     for (const ContactConstraint& c : contacts) {
-      if (c.may_touch && in_group(c.body_a) && in_group(c.body_b)) unite(c.body_a, c.body_b);
+      if (c.may_touch && in_group(c.body_a) && in_group(c.body_b)) unite(sleep_parent_, c.body_a, c.body_b);
     }
     for (const JointConstraint& j : island_joints) {
-      if (in_group(j.body_a) && in_group(j.body_b)) unite(j.body_a, j.body_b);
+      if (in_group(j.body_a) && in_group(j.body_b)) unite(sleep_parent_, j.body_a, j.body_b);
     }
     for (std::uint32_t body : members) {
       if (!ready_to_sleep(records_[body])) sleep_flags_[sleep_root(body)] |= kGroupNotReady;
@@ -167,15 +164,6 @@ void World::Impl::update_sleep(double dt) {
   }
 }
 
-std::uint32_t World::Impl::sleep_root(std::uint32_t body) {
-  // Path halving.
-  while (sleep_parent_[body] != body) {
-    sleep_parent_[body] = sleep_parent_[sleep_parent_[body]];
-    body = sleep_parent_[body];
-  }
-  return body;
-}
-
 bool World::Impl::may_touch(std::uint32_t slot) const {
   const ContactLink& link = links_[slot];
   const Manifold& m = contacts_[slot].manifold;
@@ -187,16 +175,14 @@ bool World::Impl::may_touch(std::uint32_t slot) const {
 }
 
 void World::Impl::put_to_sleep(std::uint32_t body) {
-  BodyRecord& record = records_[body];
   awake_[body] = 0;
-  // Of infinite mass to the solver while asleep: an awake body near it (a
-  // contact that does not touch, see update_sleep) stops against it.
-  inverse_masses_[body] = 0;
-  inverse_inertia_[body].setZero();
-  record.reach = 0;
+  records_[body].reach = 0;
   states_[body].linear_momentum.setZero();
   states_[body].angular_momentum.setZero();
-  velocities_[body] = SolverVelocity{};
+  // Zero velocities, and of infinite mass to the solver while asleep: an
+  // awake body near it (a contact that does not touch, see update_sleep)
+  // stops against it.
+  refresh_solver_data(body);
 }
 
 void World::Impl::wake_island(std::uint32_t body) {

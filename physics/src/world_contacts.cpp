@@ -320,7 +320,7 @@ void World::Impl::finish_contact_update(std::uint32_t slot, std::uint8_t update)
   if (update & kContactCollided) ++stats_.narrowphase_pairs;
   if (update & kContactComputed) ++stats_.manifolds_computed;
   if (!(update & kContactTouching)) return;
-  // Touching a sleeping body wakes its island; one merely near stays
+  // Touching a sleeping body wakes its group; one merely near stays
   // asleep, of infinite mass to the solver (island.cpp).
   const ContactLink& link = links_[slot];
   if ((!awake_[link.body_a] || !awake_[link.body_b]) && link.may_touch) {

@@ -200,7 +200,6 @@ class World::Impl {
   // Whether the contact in `slot` touches, or its bodies can close its gap
   // within this step: a point within kTouchSlop plus both bodies' reach.
   bool may_touch(std::uint32_t slot) const;
-  std::uint32_t sleep_root(std::uint32_t body);
 
   WorldSettings settings_;
   Vec3 gravity_;
