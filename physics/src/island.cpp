@@ -1,21 +1,22 @@
 // World: islands and sleeping.
 //
 // An island is a set of dynamic bodies connected by contacts with manifold
-// points and by joints; static and kinematic bodies do not connect islands (a floor
-// under two separate piles keeps them separate). Each step every awake
-// dynamic body counts the time it has stayed still: near the pose where
-// the count started, and not speeding up (SleepProgress). Within an island,
-// a sleep group is a set of bodies joined by joints and by contacts that
-// touch or can touch within the step; a group whose bodies have all been
-// still for time_to_sleep, are all slower than the sleep speed, and that
-// touches something, falls asleep as a whole: its bodies stop being
-// integrated, their contacts are neither updated nor solved, and to an
-// awake body merely near one of them (its speculative contact) a sleeping
-// body is of infinite mass. Anything that disturbs one of its bodies, or
-// comes to touch it, wakes the whole group and the sleeping bodies
-// touching it (Catto, "Box2D" b2Island; Baraff's notes leave sleeping
-// out). The islands of a step are built once, by the contact solver
-// (contact_islands.h), and read here.
+// points and by joints; static and kinematic bodies do not connect islands
+// (a floor under two separate piles keeps them separate). Each step every
+// awake dynamic body counts the time it has stayed still: near the pose
+// where the count started (a pose that moves on once it is 2 time_to_sleep
+// old), and not speeding up (SleepProgress). Within an island, a sleep
+// group is a set of bodies joined by joints and by contacts that touch or
+// can touch within the step; a group whose bodies have all been still for
+// time_to_sleep, are all slower than the sleep speed, and that touches
+// something, falls asleep as a whole: its bodies stop being integrated,
+// their contacts are neither updated nor solved, and to an awake body
+// merely near one of them (its speculative contact) a sleeping body is of
+// infinite mass. Anything that disturbs one of its bodies, or comes to
+// touch it, wakes the whole group and the sleeping bodies touching it; a
+// touch leaves their counts running (Catto, "Box2D" b2Island; Baraff's
+// notes leave sleeping out). The islands of a step are built once, by the
+// contact solver (contact_islands.h), and read here.
 #include <algorithm>
 #include <span>
 
@@ -93,6 +94,15 @@ void World::Impl::update_sleep(double dt) {
       continue;
     }
     sleep.time += dt;
+    // A body its group holds awake keeps counting. Its window moves on once
+    // it has been still for two of them, so that a slow creep over seconds
+    // (under the sleep speed, as every body of a pile has) is not mistaken
+    // for having moved: it stays ready while what holds it settles.
+    if (sleep.time >= 2.0 * time_to_sleep) {
+      sleep.time = time_to_sleep;
+      sleep.rest_position = state.position;
+      sleep.rest_orientation = state.orientation;
+    }
     any_ready = any_ready || ready_to_sleep(record);
   }
   if (!any_ready) return;
@@ -177,6 +187,13 @@ bool World::Impl::may_touch(std::uint32_t slot) const {
 void World::Impl::put_to_sleep(std::uint32_t body) {
   awake_[body] = 0;
   records_[body].reach = 0;
+  // It keeps its time, and is still from here on: a touch that wakes it
+  // measures its movement from the pose it slept in (wake_island).
+  SleepProgress& sleep = records_[body].sleep;
+  sleep.rest_position = states_[body].position;
+  sleep.rest_orientation = states_[body].orientation;
+  sleep.last_speed = 0;
+  sleep.rising_steps = 0;
   states_[body].linear_momentum.setZero();
   states_[body].angular_momentum.setZero();
   // Zero velocities, and of infinite mass to the solver while asleep: an
@@ -185,7 +202,7 @@ void World::Impl::put_to_sleep(std::uint32_t body) {
   refresh_solver_data(body);
 }
 
-void World::Impl::wake_island(std::uint32_t body) {
+void World::Impl::wake_island(std::uint32_t body, WakeCause cause) {
   if (records_[body].motion_type != MotionType::dynamic_body || awake_[body]) return;
   // Flood over touching contacts and joints to the sleeping dynamic bodies.
   island_stack_.clear();
@@ -196,7 +213,9 @@ void World::Impl::wake_island(std::uint32_t body) {
     const std::uint32_t i = island_stack_.back();
     island_stack_.pop_back();
     BodyRecord& record = records_[i];
-    record.sleep = SleepProgress{0, states_[i].position, states_[i].orientation};
+    // A kept count still measures from the pose it started at: a body the
+    // touch then moves, or speeds up, starts over (update_sleep).
+    if (cause == WakeCause::disturbed) record.sleep = SleepProgress{0, states_[i].position, states_[i].orientation};
     record.reach = 0;
     external_[i] = SolverVelocity{};
     refresh_solver_data(i);

@@ -324,8 +324,8 @@ void World::Impl::finish_contact_update(std::uint32_t slot, std::uint8_t update)
   // asleep, of infinite mass to the solver (island.cpp).
   const ContactLink& link = links_[slot];
   if ((!awake_[link.body_a] || !awake_[link.body_b]) && link.may_touch) {
-    wake_island(link.body_a);
-    wake_island(link.body_b);
+    wake_island(link.body_a, WakeCause::touched);
+    wake_island(link.body_b, WakeCause::touched);
   }
   active_.push_back(slot);
 }

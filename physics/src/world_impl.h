@@ -195,7 +195,12 @@ class World::Impl {
   void update_sleep(double dt);
   bool accelerating(const SleepProgress& sleep) const;
   bool ready_to_sleep(const BodyRecord& record) const;
-  void wake_island(std::uint32_t body);
+  // Why a group wakes. A body asleep that another comes to touch has not
+  // moved yet: the group keeps its progress towards sleep, and sleeps again
+  // as soon as whatever woke it is still (a landing heap is struck over and
+  // over while its last cubes settle). Anything else restarts the count.
+  enum class WakeCause : std::uint8_t { disturbed, touched };
+  void wake_island(std::uint32_t body, WakeCause cause = WakeCause::disturbed);
   void put_to_sleep(std::uint32_t body);
   // Whether the contact in `slot` touches, or its bodies can close its gap
   // within this step: a point within kTouchSlop plus both bodies' reach.

@@ -144,6 +144,70 @@ TEST(SleepingTest, ASleepingBoxIsKnockedByOneThatReachesItWithinAStep) {
   EXPECT_GT(world.position(striker).x(), -0.81);
 }
 
+// A frictionless ball grazes a sleeping box at 4 m/s, 2 mm from its
+// side: the touch wakes the box but does not move it. The box keeps its
+// progress towards sleep and sleeps again as soon as the ball has gone,
+// a quarter of a second later, not time_to_sleep after the touch.
+TEST(SleepingTest, ABoxGrazedInItsSleepSleepsAgainOnceLeftAlone) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId grazed = world.add_body(box_body(Vec3(0, 0.5, 0)));
+  ASSERT_GT(time_to_sleep(world, {grazed}, 3.0), 0);
+  BodyDesc desc = sphere_body(Vec3(0.602, 0.1, -1.5), 0.1);
+  desc.friction = 0;
+  desc.linear_velocity = Vec3(0, 0, 4);
+  world.add_body(desc);
+  int woken = -1, asleep_again = -1;
+  for (int i = 0; i < static_cast<int>(2.0 / kTick) && asleep_again < 0; ++i) {
+    world.step(kTick);
+    if (woken < 0 && world.is_awake(grazed)) woken = i;
+    if (woken >= 0 && !world.is_awake(grazed)) asleep_again = i;
+  }
+  ASSERT_GE(woken, 0);
+  ASSERT_GE(asleep_again, 0);
+  const double awake_for = (asleep_again - woken) * kTick;
+  EXPECT_LT(awake_for, 0.4);
+  EXPECT_NEAR(world.position(grazed).x(), 0.0, 1e-3);
+}
+
+// A box creeps on frictionless feet at 0.01 m/s, a fifth of the sleep
+// speed, beside a long bar sliding at twice the sleep speed that it
+// touches: the bar holds their group awake. The box stays ready to sleep
+// all along (it moves 5 mm in time_to_sleep, within the 12.5 mm allowed),
+// however far it creeps in all; once the bar stops, the pair sleeps
+// time_to_sleep later.
+TEST(SleepingTest, ABodyHeldAwakeByItsGroupStaysReadyWhileItCreeps) {
+  World world;
+  world.add_body(ground_plane());
+  BodyDesc desc = box_body(Vec3(0, 0.5, 0));
+  desc.friction = 0;
+  desc.linear_velocity = Vec3(0, 0, 0.01);
+  const BodyId creeping = world.add_body(desc);
+  BodyDesc bar;
+  bar.shape = box_shape(Vec3(0.5, 0.5, 20));
+  bar.mass_properties = box_mass_properties(1.0, Vec3(0.5, 0.5, 20));
+  bar.position = Vec3(1.0, 0.5, 0);
+  bar.friction = 0;
+  bar.linear_velocity = Vec3(0, 0, 0.1);
+  const BodyId sliding = world.add_body(bar);
+  const double still_for = WorldSettings{}.time_to_sleep;
+  bool ready = false;
+  for (int i = 0; i < static_cast<int>(4.0 / kTick); ++i) {
+    world.step(kTick);
+    ASSERT_TRUE(world.is_awake(creeping));
+    const double counted = world.sleep_progress(creeping).time;
+    if (ready) {
+      ASSERT_GE(counted, still_for) << "at " << i * kTick << " s, " << world.position(creeping).z() << " m";
+    }
+    ready = ready || counted >= still_for;
+  }
+  EXPECT_GT(world.position(creeping).z(), 0.035);
+  world.set_state(sliding, world.position(sliding), world.orientation(sliding), Vec3::Zero(), Vec3::Zero());
+  const double slept_after = time_to_sleep(world, {creeping, sliding}, 2.0);
+  EXPECT_GT(slept_after, 0);
+  EXPECT_LT(slept_after, still_for + 0.05);
+}
+
 // physics_compare's landing: 30 x 30 cubes of 0.3 m, 0.4 m apart, tilted
 // by 0.3 to 1 rad about axes that turn from cube to cube and dropped from
 // 0.4, 0.95 or 1.5 m, and a 1 m cube of 10 kg dropped from 2.3 m onto the

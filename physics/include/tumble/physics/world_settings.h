@@ -64,9 +64,9 @@ struct WorldSettings {
   double aabb_margin = 0.1;  // m: fat boxes in the broadphase tree
   bool sleep_enabled = true;
   // A body is still while it stays within sleep_speed * time_to_sleep / 2
-  // of where it was time_to_sleep ago (its centre, and its bounding sphere
-  // as it turns) and its speed is not rising steadily (a body tipping over
-  // an edge); a group of bodies joined by joints and by contacts that touch
+  // of where it was time_to_sleep to twice that ago (its centre, and its
+  // bounding sphere as it turns) and its speed is not rising steadily (a
+  // body tipping over an edge); a group of bodies joined by joints and by contacts that touch
   // or can touch within the step sleeps when all its bodies have been still
   // for time_to_sleep and |v| and |w| times the bounding radius are below
   // sleep_speed for each. Only groups that touch something sleep: a free
