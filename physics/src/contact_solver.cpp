@@ -286,8 +286,9 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     store_vec3(slot.rotation, Vec3::Zero());
   }
 
-  // The rows, lane by lane; a lane without a constraint, or without a
-  // point k, keeps the zeros written here.
+  // The rows: what each lane reads, lane by lane, then the rows of the four
+  // lanes at once. A lane without a constraint, or without a point k,
+  // keeps the zeros written here.
   const std::span<const ContactConstraint> constraints = islands_.constraints();
   const WideRowInputs inputs{bodies_, velocities, soft_, static_soft_, settings_.spin_friction};
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
@@ -300,11 +301,13 @@ void ContactSolver::solve_group(const Group& group, std::span<SolverVelocity> ve
     w.spin_mass = w.spin_impulse = w.spin_limit = Float4{};
     w.spins = false;
     WidePoint* points = wide_points_.data() + w.first_point;
+    WideArms arms{};
     for (int lane = 0; lane < kLanes; ++lane) {
       if (w.constraint[lane] == kNoConstraint) continue;
       const ContactConstraint& c = constraints[w.constraint[lane]];
-      build_lane(inputs, c, contacts_[c.contact], lane, w, points);
+      build_lane(inputs, c, contacts_[c.contact], lane, w, points, arms);
     }
+    build_rows(w, points, arms);
   }
 
   // The joints' rows, on the same slots.

@@ -59,9 +59,10 @@
 // four lanes of Float4 at once (wide_constraint.h). Static bodies and
 // kinematic bodies that stand still take no slot: their terms read a slot
 // of zeros. A constraint for which no colour is free is solved in a wide
-// constraint of its own (one lane used). The rows are built in double
-// precision and stored and solved in single precision; the solve hands
-// back each body's change of velocity, added to its double velocity.
+// constraint of its own (one lane used). The arms and friction directions
+// are found in double precision, the rows built and solved in single
+// precision; the solve hands back each body's change of velocity, added to
+// its double velocity.
 //
 // Thread: prepare() and solve() from the World's thread; solve() runs
 // groups on the team's threads and returns when all are done. Arrays are

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "rotation.h"
 
 namespace tumble::physics {
 
@@ -36,7 +35,7 @@ void tangent_basis(const Vec3& n, Vec3* t1, Vec3* t2) {
 }  // namespace
 
 void build_lane(const WideRowInputs& in, const ContactConstraint& c, const Contact& contact, int lane,
-                WideConstraint& w, WidePoint* points) {
+                WideConstraint& w, WidePoint* points, WideArms& arms) {
   const Manifold& m = contact.manifold;
   const ContactSolverBodies& bodies = in.bodies;
   const double inverse_mass_a = bodies.inverse_mass[c.body_a];
@@ -81,52 +80,38 @@ void build_lane(const WideRowInputs& in, const ContactConstraint& c, const Conta
   set_lane(w.tangent1, lane, tangent1);
   set_lane(w.tangent2, lane, tangent2);
 
-  // Rows. A static body, or a kinematic one, has a zero inverse inertia, so
-  // its response and its share of the effective mass are zero.
+  // A static body, or a kinematic one standing still, is read from the
+  // slot of zeros: its arms, inertia and velocities stay zero, and so do its
+  // Jacobians and responses. A moving kinematic body has a slot, and a zero
+  // inverse inertia.
+  const bool reads_a = w.slot_a[lane] != 0, reads_b = w.slot_b[lane] != 0;
   const Mat3& inertia_a = bodies.inverse_inertia[c.body_a];
   const Mat3& inertia_b = bodies.inverse_inertia[c.body_b];
-  // I^-1 j: an isotropic inverse inertia s 1 (a cube's, a sphere's) makes
-  // it s j, three products instead of nine, the same numbers.
-  const bool reads_a = w.slot_a[lane] != 0, reads_b = w.slot_b[lane] != 0;
-  const bool isotropic_a = reads_a && is_isotropic(inertia_a), isotropic_b = reads_b && is_isotropic(inertia_b);
-  auto response = [](const Mat3& inertia, bool isotropic, const Vec3& jacobian) {
-    return isotropic ? Vec3(inertia(0, 0) * jacobian) : Vec3(inertia * jacobian);
-  };
-  const double inverse_mass_sum = inverse_mass_a + inverse_mass_b;
+  for (int r = 0; r < 3; ++r) {
+    if (reads_a) set_lane(arms.inverse_inertia_a.row[r], lane, inertia_a.row(r).transpose());
+    if (reads_b) set_lane(arms.inverse_inertia_b.row[r], lane, inertia_b.row(r).transpose());
+  }
+  if (reads_a) {
+    set_lane(arms.linear_a, lane, va.linear);
+    set_lane(arms.angular_a, lane, va.angular);
+  }
+  if (reads_b) {
+    set_lane(arms.linear_b, lane, vb.linear);
+    set_lane(arms.angular_b, lane, vb.angular);
+  }
   for (int k = 0; k < m.point_count; ++k) {
     const ManifoldPoint& mp = m.points[k];
     const Vec3 point = 0.5 * (mp.point_a + mp.point_b);
-    const Vec3 ra = point - xa;
-    const Vec3 rb = point - xb;
+    // The arms in double: the bodies may be far from the origin.
+    if (reads_a) set_lane(arms.arm_a[k], lane, point - xa);
+    if (reads_b) set_lane(arms.arm_b[k], lane, point - xb);
+    arms.has_point[k][lane] = -1;
     WidePoint& p = points[k];
-    // A fixed side (the slot of zeros: no velocity, no motion, no inverse
-    // inertia) keeps the zeros its terms were given.
-    auto make_row = [&](WideRow& row, const Vec3& d, double impulse) {
-      double k_row = inverse_mass_sum, angular_part = 0;
-      if (reads_a) {
-        const Vec3 jacobian = ra.cross(d), r = response(inertia_a, isotropic_a, jacobian);
-        k_row += jacobian.dot(r);
-        angular_part -= jacobian.dot(va.angular);
-        set_lane(row.jacobian_a, lane, jacobian);
-        set_lane(row.response_a, lane, r);
-      }
-      if (reads_b) {
-        const Vec3 jacobian = rb.cross(d), r = response(inertia_b, isotropic_b, jacobian);
-        k_row += jacobian.dot(r);
-        angular_part += jacobian.dot(vb.angular);
-        set_lane(row.jacobian_b, lane, jacobian);
-        set_lane(row.response_b, lane, r);
-      }
-      row.mass[lane] = static_cast<float>(k_row > 0 ? 1.0 / k_row : 0.0);
-      row.impulse[lane] = static_cast<float>(impulse);
-      return angular_part;
-    };
     const Vec3& friction_impulse = contact.tangent_impulse[k];
-    const double angular_part = make_row(p.normal, normal, contact.normal_impulse[k]);
-    make_row(p.tangent1, tangent1, friction_impulse.dot(tangent1));
-    make_row(p.tangent2, tangent2, friction_impulse.dot(tangent2));
+    p.normal.impulse[lane] = static_cast<float>(contact.normal_impulse[k]);
+    p.tangent1.impulse[lane] = static_cast<float>(friction_impulse.dot(tangent1));
+    p.tangent2.impulse[lane] = static_cast<float>(friction_impulse.dot(tangent2));
     p.separation[lane] = static_cast<float>(mp.separation);
-    p.relative_velocity[lane] = static_cast<float>(normal.dot(vb.linear - va.linear) + angular_part);
   }
 
   // The spin row, for a single point: one point has no lever arm about
@@ -134,12 +119,12 @@ void build_lane(const WideRowInputs& in, const ContactConstraint& c, const Conta
   if (m.point_count == 1 && in.spin_friction > 0) {
     double k_row = 0;
     if (reads_a) {
-      const Vec3 r = response(inertia_a, isotropic_a, normal);
+      const Vec3 r = inertia_a * normal;
       k_row += normal.dot(r);
       set_lane(w.spin_response_a, lane, r);
     }
     if (reads_b) {
-      const Vec3 r = response(inertia_b, isotropic_b, normal);
+      const Vec3 r = inertia_b * normal;
       k_row += normal.dot(r);
       set_lane(w.spin_response_b, lane, r);
     }
@@ -149,6 +134,35 @@ void build_lane(const WideRowInputs& in, const ContactConstraint& c, const Conta
       w.spin_limit[lane] = static_cast<float>(double{w.friction[lane]} * in.spin_friction);
       w.spins = true;
     }
+  }
+}
+
+void build_rows(WideConstraint& w, WidePoint* points, const WideArms& arms) {
+  const Float4 inverse_mass_sum = w.inverse_mass_a + w.inverse_mass_b;
+  const Float4 zero = splat4(0.0f), one = splat4(1.0f);
+  for (std::uint32_t k = 0; k < w.point_count; ++k) {
+    WidePoint& p = points[k];
+    const Vec3x4& arm_a = arms.arm_a[k];
+    const Vec3x4& arm_b = arms.arm_b[k];
+    const Mask4 has_point = arms.has_point[k];
+    auto make_row = [&](WideRow& row, const Vec3x4& d) {
+      row.jacobian_a = cross4(arm_a, d);
+      row.jacobian_b = cross4(arm_b, d);
+      row.response_a = arms.inverse_inertia_a * row.jacobian_a;
+      row.response_b = arms.inverse_inertia_b * row.jacobian_b;
+      // K = 1/M_a + 1/M_b + (r_a x d).I_a^-1 (r_a x d) + (r_b x d).I_b^-1
+      // (r_b x d); a lane without point k, or with K = 0, takes no impulse.
+      const Float4 k_row = inverse_mass_sum + dot4(row.jacobian_a, row.response_a) +
+                           dot4(row.jacobian_b, row.response_b);
+      const Mask4 solvable = has_point & (k_row > zero);
+      row.mass = select4(solvable, one / select4(solvable, k_row, one), zero);
+    };
+    make_row(p.normal, w.normal);
+    make_row(p.tangent1, w.tangent1);
+    make_row(p.tangent2, w.tangent2);
+    // v_n = n.(v_b - v_a) + (r_b x n).w_b - (r_a x n).w_a
+    p.relative_velocity = dot4(w.normal, arms.linear_b - arms.linear_a) +
+                          dot4(p.normal.jacobian_b, arms.angular_b) - dot4(p.normal.jacobian_a, arms.angular_a);
   }
 }
 

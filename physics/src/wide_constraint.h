@@ -5,8 +5,9 @@
 // gather and scatter of the lanes' bodies between the slots of a group
 // (SolverBody, one body a row) and Vec3x4 (one component a Float4).
 //
-// Rows are built in double precision and stored in single precision. The
-// row terms follow contact_solver.h: with r_a, r_b the contact point
+// Each lane's arms and friction directions are found in double precision
+// and stored in single; the rows are then built from them in single
+// precision, the four lanes at once. The row terms follow contact_solver.h: with r_a, r_b the contact point
 // relative to the centres of mass and d the row direction, the Jacobians
 // r_a x d and r_b x d, their products with the inverse inertias (the
 // responses) and the effective mass 1 / (1/M_a + 1/M_b + (r_a x d).I_a^-1
@@ -101,13 +102,46 @@ struct WideRowInputs {
   double spin_friction = 0;  // m (WorldSettings::spin_friction)
 };
 
+// A 3 x 3 matrix of four lanes, row by row: lane l holds the l-th of four
+// matrices.
+struct Mat3x4 {
+  Vec3x4 row[3];
+};
+
+inline Vec3x4 operator*(const Mat3x4& m, const Vec3x4& v) {
+  return {dot4(m.row[0], v), dot4(m.row[1], v), dot4(m.row[2], v)};
+}
+
+inline Vec3x4 cross4(const Vec3x4& a, const Vec3x4& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// What the rows of a wide constraint are built from, lane by lane: each
+// point's arms r_a and r_b, the bodies' inverse inertias and velocities
+// (all zero on a side read from the slot of zeros), and which lanes have a
+// point k. Filled by build_lane(), read by build_rows().
+struct WideArms {
+  Vec3x4 arm_a[kMaxManifoldPoints], arm_b[kMaxManifoldPoints];
+  Mask4 has_point[kMaxManifoldPoints];
+  Mat3x4 inverse_inertia_a, inverse_inertia_b;
+  Vec3x4 linear_a, linear_b, angular_a, angular_b;
+};
+
 // Writes lane `lane` of w and of its points (w.first_point's, at points)
 // from constraint c and its contact: the common terms, the friction
-// directions and each point's rows, the accumulated impulses of the last
-// step as the rows' impulses. Expects w's slots set and the lane's terms
-// zero; a side read from the slot of zeros keeps its zeros.
+// directions, the spin row, and for each point its separation and the
+// accumulated impulses of the last step as the rows' impulses; and the
+// lane of arms. In double precision, then stored in single. Expects w's
+// slots set, the lane's terms and arms zero.
 void build_lane(const WideRowInputs& in, const ContactConstraint& c, const Contact& contact, int lane,
-                WideConstraint& w, WidePoint* points);
+                WideConstraint& w, WidePoint* points, WideArms& arms);
+
+// Then the rows of every lane at once: for each point and direction d, the
+// Jacobians r_a x d and r_b x d, their responses and the effective mass
+// (zero in a lane without that point), and the normal velocity before the
+// solve. A side read from the slot of zeros has zero arms, so its terms
+// stay zero.
+void build_rows(WideConstraint& w, WidePoint* points, const WideArms& arms);
 
 // The velocities of one side of four lanes, and their motion.
 struct WideVelocity {
