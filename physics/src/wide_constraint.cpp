@@ -4,7 +4,6 @@
 #include <cmath>
 #include <numbers>
 
-
 namespace tumble::physics {
 
 Softness make_softness(double hertz, double damping_ratio, double h) {
@@ -152,8 +151,8 @@ void build_rows(WideConstraint& w, WidePoint* points, const WideArms& arms) {
       row.response_b = arms.inverse_inertia_b * row.jacobian_b;
       // K = 1/M_a + 1/M_b + (r_a x d).I_a^-1 (r_a x d) + (r_b x d).I_b^-1
       // (r_b x d); a lane without point k, or with K = 0, takes no impulse.
-      const Float4 k_row = inverse_mass_sum + dot4(row.jacobian_a, row.response_a) +
-                           dot4(row.jacobian_b, row.response_b);
+      const Float4 k_row =
+          inverse_mass_sum + dot4(row.jacobian_a, row.response_a) + dot4(row.jacobian_b, row.response_b);
       const Mask4 solvable = has_point & (k_row > zero);
       row.mass = select4(solvable, one / select4(solvable, k_row, one), zero);
     };
@@ -161,8 +160,8 @@ void build_rows(WideConstraint& w, WidePoint* points, const WideArms& arms) {
     make_row(p.tangent1, w.tangent1);
     make_row(p.tangent2, w.tangent2);
     // v_n = n.(v_b - v_a) + (r_b x n).w_b - (r_a x n).w_a
-    p.relative_velocity = dot4(w.normal, arms.linear_b - arms.linear_a) +
-                          dot4(p.normal.jacobian_b, arms.angular_b) - dot4(p.normal.jacobian_a, arms.angular_a);
+    p.relative_velocity = dot4(w.normal, arms.linear_b - arms.linear_a) + dot4(p.normal.jacobian_b, arms.angular_b) -
+                          dot4(p.normal.jacobian_a, arms.angular_a);
   }
 }
 

@@ -43,7 +43,7 @@ struct Scene {
   std::vector<ContactConstraint> constraints;
 
   Scene() {
-    const std::array<Vec3, 6> positions = {Vec3::Zero(),         Vec3(0.1, 1.0, -0.2),    Vec3(0.3, 2.1, 0.1),
+    const std::array<Vec3, 6> positions = {Vec3::Zero(),        Vec3(0.1, 1.0, -0.2), Vec3(0.3, 2.1, 0.1),
                                            Vec3(2.0, 0.5, 1.0), Vec3(1e4, 3.0, -2e4), Vec3(1e4, 4.1, -2e4)};
     for (const Vec3& p : positions) transforms.push_back(Transform{p, Mat3::Identity()});
     for (int i = 0; i < 6; ++i) {
@@ -132,10 +132,10 @@ TEST(WideConstraint, RowsOfFourLanesMatchEachLaneWorkedOutInDouble) {
         const Vec3 d = lane(*directions[r], l);
         const Vec3 ja = ra.cross(d), jb = rb.cross(d);
         const Vec3 response_a = scene.inertia[c.body_a] * ja, response_b = scene.inertia[c.body_b] * jb;
-        const double k_row = scene.inverse_mass[c.body_a] + scene.inverse_mass[c.body_b] + ja.dot(response_a) +
-                             jb.dot(response_b);
-        const std::string where = "lane " + std::to_string(l) + " point " + std::to_string(k) + " row " +
-                                  std::to_string(r);
+        const double k_row =
+            scene.inverse_mass[c.body_a] + scene.inverse_mass[c.body_b] + ja.dot(response_a) + jb.dot(response_b);
+        const std::string where =
+            "lane " + std::to_string(l) + " point " + std::to_string(k) + " row " + std::to_string(r);
         EXPECT_NEAR(rows[r]->mass[l], 1.0 / k_row, 1e-5 / k_row) << where;
         EXPECT_LT((lane(rows[r]->jacobian_a, l) - ja).norm(), 1e-5) << where;
         EXPECT_LT((lane(rows[r]->jacobian_b, l) - jb).norm(), 1e-5) << where;
