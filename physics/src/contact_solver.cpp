@@ -22,6 +22,226 @@ constexpr double kMaxJointHertzPerSubstepRate = 0.1875;
 // No slot yet: an unset entry of slot_of_body_.
 constexpr std::uint32_t kNoSlot = 0xffffffff;
 
+// What a pass over the contacts does to one wide constraint. A side
+// whose every lane reads the slot of zeros (WideConstraint::moves_a,
+// moves_b: a body of infinite mass at rest, as the ground under a pile) has
+// no velocity, no motion and no response: kSideA or kSideB false leaves its
+// terms out, and the results are those of the full rows.
+
+// The terms of a solve pass the same for every wide constraint.
+struct PassTerms {
+  Float4 inverse_h;  // 1/h of the substep
+  Float4 max_push;   // -max_push_speed
+  bool soft;         // a soft pass, or a relax pass
+};
+
+// d.(x_b - x_a) + j_b.y_b - j_a.y_a, the relative velocity along a row
+// (x linear, y angular velocities) or its relative motion (x displacement,
+// y rotation), without the terms of a fixed side.
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline Float4 along_row(const Vec3x4& d, const Vec3x4& jacobian_a, const Vec3x4& jacobian_b,
+                                               const Vec3x4& xa, const Vec3x4& ya, const Vec3x4& xb, const Vec3x4& yb) {
+  if constexpr (kSideA && kSideB) {
+    return dot4(d, xb - xa) + dot4(jacobian_b, yb) - dot4(jacobian_a, ya);
+  } else if constexpr (kSideB) {
+    return dot4(d, xb) + dot4(jacobian_b, yb);
+  } else {
+    return splat4(0.0f) - dot4(d, xa) - dot4(jacobian_a, ya);
+  }
+}
+
+// Applies an impulse: -P (linear) and -angular_a on side a, +P and
+// +angular_b on side b.
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void apply_impulse(WideVelocity& a, WideVelocity& b, const WideConstraint& w,
+                                                 const Vec3x4& impulse, const Vec3x4& angular_a,
+                                                 const Vec3x4& angular_b) {
+  if constexpr (kSideA) {
+    a.linear = a.linear - w.inverse_mass_a * impulse;
+    a.angular = a.angular - angular_a;
+  }
+  if constexpr (kSideB) {
+    b.linear = b.linear + w.inverse_mass_b * impulse;
+    b.angular = b.angular + angular_b;
+  }
+}
+
+// Applies an impulse d along the normal row: (1/M d) n and d I^-1 (r x n).
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void apply_normal_impulse(WideVelocity& a, WideVelocity& b, const WideConstraint& w,
+                                                        Float4 d, const WideRow& row) {
+  if constexpr (kSideA) {
+    a.linear = a.linear - (w.inverse_mass_a * d) * w.normal;
+    a.angular = a.angular - d * row.response_a;
+  }
+  if constexpr (kSideB) {
+    b.linear = b.linear + (w.inverse_mass_b * d) * w.normal;
+    b.angular = b.angular + d * row.response_b;
+  }
+}
+
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void gather_sides(const SolverBody* slots, const WideConstraint& w, WideVelocity& a,
+                                                WideVelocity& b) {
+  if constexpr (kSideA) a = gather_velocity(slots, w.slot_a);
+  if constexpr (kSideB) b = gather_velocity(slots, w.slot_b);
+}
+
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void scatter_sides(SolverBody* slots, const WideConstraint& w, const WideVelocity& a,
+                                                 const WideVelocity& b) {
+  if constexpr (kSideA) scatter_velocity(slots, w.slot_a, w.inverse_mass_a, a);
+  if constexpr (kSideB) scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
+}
+
+// The accumulated impulses of the last step, applied again.
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void warm_start_wide(const WideConstraint& w, const WidePoint* points,
+                                                   SolverBody* slots) {
+  WideVelocity a{}, b{};
+  gather_sides<kSideA, kSideB>(slots, w, a, b);
+  for (std::uint32_t k = 0; k < w.point_count; ++k) {
+    const WidePoint& p = points[k];
+    const Vec3x4 impulse =
+        p.normal.impulse * w.normal + p.tangent1.impulse * w.tangent1 + p.tangent2.impulse * w.tangent2;
+    apply_impulse<kSideA, kSideB>(a, b, w, impulse,
+                                  p.normal.impulse * p.normal.response_a + p.tangent1.impulse * p.tangent1.response_a +
+                                      p.tangent2.impulse * p.tangent2.response_a,
+                                  p.normal.impulse * p.normal.response_b + p.tangent1.impulse * p.tangent1.response_b +
+                                      p.tangent2.impulse * p.tangent2.response_b);
+  }
+  if (w.spins) {
+    if constexpr (kSideA) a.angular = a.angular - w.spin_impulse * w.spin_response_a;
+    if constexpr (kSideB) b.angular = b.angular + w.spin_impulse * w.spin_response_b;
+  }
+  scatter_sides<kSideA, kSideB>(slots, w, a, b);
+}
+
+// One pass of the normal rows, the friction rows and the spin row.
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void solve_wide(WideConstraint& w, WidePoint* points, SolverBody* slots,
+                                              const PassTerms& terms) {
+  const Float4 zero = splat4(0.0f), one = splat4(1.0f);
+  WideVelocity a{}, b{};
+  gather_sides<kSideA, kSideB>(slots, w, a, b);
+  WideMotion ma{}, mb{};
+  if constexpr (kSideA) ma = gather_motion(slots, w.slot_a);
+  if constexpr (kSideB) mb = gather_motion(slots, w.slot_b);
+  Float4 moved;
+  if constexpr (kSideA && kSideB) {
+    moved = dot4(w.normal, mb.displacement - ma.displacement);
+  } else if constexpr (kSideB) {
+    moved = dot4(w.normal, mb.displacement);
+  } else {
+    moved = zero - dot4(w.normal, ma.displacement);
+  }
+
+  for (std::uint32_t k = 0; k < w.point_count; ++k) {
+    WidePoint& p = points[k];
+    // Separation now: the start value plus the relative motion of the two
+    // contact points along the normal.
+    Float4 s;
+    if constexpr (kSideA && kSideB) {
+      s = p.separation + moved + dot4(p.normal.jacobian_b, mb.rotation) - dot4(p.normal.jacobian_a, ma.rotation);
+    } else if constexpr (kSideB) {
+      s = p.separation + moved + dot4(p.normal.jacobian_b, mb.rotation);
+    } else {
+      s = p.separation + moved - dot4(p.normal.jacobian_a, ma.rotation);
+    }
+    const Float4 vn = along_row<kSideA, kSideB>(w.normal, p.normal.jacobian_a, p.normal.jacobian_b, a.linear, a.angular,
+                                                b.linear, b.angular);
+    // The target (contact_solver.h): a speculative point (s > 0) may close
+    // its gap within the substep; an overlap is pushed out through the
+    // soft spring, or not at all in a relax pass.
+    const Mask4 speculative = s > zero;
+    Float4 bias = s * terms.inverse_h, mass_scale = one, impulse_scale = zero;
+    if (terms.soft) {
+      bias = select4(speculative, bias, max4(w.bias_rate * s, terms.max_push));
+      mass_scale = select4(speculative, one, w.mass_scale);
+      impulse_scale = select4(speculative, zero, w.impulse_scale);
+    } else {
+      bias = select4(speculative, bias, zero);
+    }
+    const Float4 accumulated =
+        max4(p.normal.impulse - p.normal.mass * mass_scale * (vn + bias) - impulse_scale * p.normal.impulse, zero);
+    const Float4 d = accumulated - p.normal.impulse;
+    p.normal.impulse = accumulated;
+    p.max_normal_impulse = max4(p.max_normal_impulse, accumulated);
+    apply_normal_impulse<kSideA, kSideB>(a, b, w, d, p.normal);
+  }
+
+  for (std::uint32_t k = 0; k < w.point_count; ++k) {
+    WidePoint& p = points[k];
+    const Float4 vt1 = along_row<kSideA, kSideB>(w.tangent1, p.tangent1.jacobian_a, p.tangent1.jacobian_b, a.linear,
+                                                 a.angular, b.linear, b.angular);
+    const Float4 vt2 = along_row<kSideA, kSideB>(w.tangent2, p.tangent2.jacobian_a, p.tangent2.jacobian_b, a.linear,
+                                                 a.angular, b.linear, b.angular);
+    Float4 new1 = p.tangent1.impulse - p.tangent1.mass * vt1;
+    Float4 new2 = p.tangent2.impulse - p.tangent2.mass * vt2;
+    // Coulomb's cone: the two tangent impulses together within the disc of
+    // radius friction * normal impulse.
+    const Float4 limit = w.friction * p.normal.impulse;
+    const Float4 length2 = new1 * new1 + new2 * new2;
+    const Mask4 outside = length2 > limit * limit;
+    // Mostly every lane sticks (a resting pile): then nothing is scaled,
+    // and the division and square root are skipped.
+    if (any4(outside)) {
+      const Float4 scale = select4(outside, limit / sqrt4(max4(length2, splat4(1e-30f))), one);
+      new1 *= scale;
+      new2 *= scale;
+    }
+    const Float4 d1 = new1 - p.tangent1.impulse, d2 = new2 - p.tangent2.impulse;
+    p.tangent1.impulse = new1;
+    p.tangent2.impulse = new2;
+    apply_impulse<kSideA, kSideB>(a, b, w, d1 * w.tangent1 + d2 * w.tangent2,
+                                  d1 * p.tangent1.response_a + d2 * p.tangent2.response_a,
+                                  d1 * p.tangent1.response_b + d2 * p.tangent2.response_b);
+  }
+
+  if (w.spins) {
+    // The spin row of the one-point lanes (zero mass in the others),
+    // within friction * spin_friction * the point's normal impulse.
+    Float4 spin;
+    if constexpr (kSideA && kSideB) {
+      spin = dot4(w.normal, b.angular - a.angular);
+    } else if constexpr (kSideB) {
+      spin = dot4(w.normal, b.angular);
+    } else {
+      spin = zero - dot4(w.normal, a.angular);
+    }
+    const Float4 limit = w.spin_limit * points[0].normal.impulse;
+    const Float4 accumulated = min4(max4(w.spin_impulse - w.spin_mass * spin, zero - limit), limit);
+    const Float4 d = accumulated - w.spin_impulse;
+    w.spin_impulse = accumulated;
+    if constexpr (kSideA) a.angular = a.angular - d * w.spin_response_a;
+    if constexpr (kSideB) b.angular = b.angular + d * w.spin_response_b;
+  }
+  scatter_sides<kSideA, kSideB>(slots, w, a, b);
+}
+
+// Restitution on the points that approached faster than the threshold and
+// took an impulse: target v_n = -e v_n(before).
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline void restitution_wide(WideConstraint& w, WidePoint* points, SolverBody* slots,
+                                                    Float4 threshold) {
+  const Float4 zero = splat4(0.0f);
+  const Mask4 bouncy = w.restitution > zero;
+  WideVelocity a{}, b{};
+  gather_sides<kSideA, kSideB>(slots, w, a, b);
+  for (std::uint32_t k = 0; k < w.point_count; ++k) {
+    WidePoint& p = points[k];
+    const Mask4 bounces = bouncy & (p.relative_velocity <= threshold) & (p.max_normal_impulse > zero);
+    const Float4 vn = along_row<kSideA, kSideB>(w.normal, p.normal.jacobian_a, p.normal.jacobian_b, a.linear, a.angular,
+                                                b.linear, b.angular);
+    const Float4 accumulated =
+        max4(p.normal.impulse - p.normal.mass * (vn + w.restitution * p.relative_velocity), zero);
+    const Float4 d = select4(bounces, accumulated - p.normal.impulse, zero);
+    p.normal.impulse = p.normal.impulse + d;
+    apply_normal_impulse<kSideA, kSideB>(a, b, w, d, p.normal);
+  }
+  scatter_sides<kSideA, kSideB>(slots, w, a, b);
+}
+
 }  // namespace
 
 void ContactSolver::prepare(std::span<Contact> contacts, std::span<const ContactLink> links,
@@ -74,125 +294,38 @@ void ContactSolver::reserve(std::size_t constraints) {
   solver_external_.reserve(2 * constraints);
   slot_turns_.reserve(2 * constraints);
   slot_body_.reserve(2 * constraints);
+  packing_.reserve(constraints);
 }
 
 void ContactSolver::warm_start(const Group& group) {
   SolverBody* slots = solver_bodies_.data() + group.first_slot;
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     const WideConstraint& w = wide_[group.first_wide + i];
-    WideVelocity a = gather_velocity(slots, w.slot_a);
-    WideVelocity b = gather_velocity(slots, w.slot_b);
     const WidePoint* points = wide_points_.data() + w.first_point;
-    for (std::uint32_t k = 0; k < w.point_count; ++k) {
-      const WidePoint& p = points[k];
-      const Vec3x4 impulse =
-          p.normal.impulse * w.normal + p.tangent1.impulse * w.tangent1 + p.tangent2.impulse * w.tangent2;
-      a.linear = a.linear - w.inverse_mass_a * impulse;
-      a.angular = a.angular - (p.normal.impulse * p.normal.response_a + p.tangent1.impulse * p.tangent1.response_a +
-                               p.tangent2.impulse * p.tangent2.response_a);
-      b.linear = b.linear + w.inverse_mass_b * impulse;
-      b.angular = b.angular + (p.normal.impulse * p.normal.response_b + p.tangent1.impulse * p.tangent1.response_b +
-                               p.tangent2.impulse * p.tangent2.response_b);
+    if (!w.moves_a) {
+      warm_start_wide<false, true>(w, points, slots);
+    } else if (!w.moves_b) {
+      warm_start_wide<true, false>(w, points, slots);
+    } else {
+      warm_start_wide<true, true>(w, points, slots);
     }
-    if (w.spins) {
-      a.angular = a.angular - w.spin_impulse * w.spin_response_a;
-      b.angular = b.angular + w.spin_impulse * w.spin_response_b;
-    }
-    scatter_velocity(slots, w.slot_a, w.inverse_mass_a, a);
-    scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
   }
 }
 
 void ContactSolver::solve_pass(const Group& group, bool soft) {
   SolverBody* slots = solver_bodies_.data() + group.first_slot;
-  const Float4 inverse_h = splat4(static_cast<float>(inverse_h_));
-  const Float4 max_push = splat4(static_cast<float>(-settings_.max_push_speed));
-  const Float4 zero = splat4(0.0f), one = splat4(1.0f);
+  const PassTerms terms{splat4(static_cast<float>(inverse_h_)), splat4(static_cast<float>(-settings_.max_push_speed)),
+                        soft};
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     WideConstraint& w = wide_[group.first_wide + i];
-    WideVelocity a = gather_velocity(slots, w.slot_a);
-    WideVelocity b = gather_velocity(slots, w.slot_b);
-    const WideMotion ma = gather_motion(slots, w.slot_a);
-    const WideMotion mb = gather_motion(slots, w.slot_b);
-    const Float4 moved = dot4(w.normal, mb.displacement - ma.displacement);
     WidePoint* points = wide_points_.data() + w.first_point;
-
-    for (std::uint32_t k = 0; k < w.point_count; ++k) {
-      WidePoint& p = points[k];
-      // Separation now: the start value plus the relative motion of the two
-      // contact points along the normal.
-      const Float4 s =
-          p.separation + moved + dot4(p.normal.jacobian_b, mb.rotation) - dot4(p.normal.jacobian_a, ma.rotation);
-      const Float4 vn = dot4(w.normal, b.linear - a.linear) + dot4(p.normal.jacobian_b, b.angular) -
-                        dot4(p.normal.jacobian_a, a.angular);
-      // The target (contact_solver.h): a speculative point (s > 0) may close
-      // its gap within the substep; an overlap is pushed out through the
-      // soft spring, or not at all in a relax pass.
-      const Mask4 speculative = s > zero;
-      Float4 bias = s * inverse_h, mass_scale = one, impulse_scale = zero;
-      if (soft) {
-        bias = select4(speculative, bias, max4(w.bias_rate * s, max_push));
-        mass_scale = select4(speculative, one, w.mass_scale);
-        impulse_scale = select4(speculative, zero, w.impulse_scale);
-      } else {
-        bias = select4(speculative, bias, zero);
-      }
-      const Float4 accumulated =
-          max4(p.normal.impulse - p.normal.mass * mass_scale * (vn + bias) - impulse_scale * p.normal.impulse, zero);
-      const Float4 d = accumulated - p.normal.impulse;
-      p.normal.impulse = accumulated;
-      p.max_normal_impulse = max4(p.max_normal_impulse, accumulated);
-      a.linear = a.linear - (w.inverse_mass_a * d) * w.normal;
-      a.angular = a.angular - d * p.normal.response_a;
-      b.linear = b.linear + (w.inverse_mass_b * d) * w.normal;
-      b.angular = b.angular + d * p.normal.response_b;
+    if (!w.moves_a) {
+      solve_wide<false, true>(w, points, slots, terms);
+    } else if (!w.moves_b) {
+      solve_wide<true, false>(w, points, slots, terms);
+    } else {
+      solve_wide<true, true>(w, points, slots, terms);
     }
-
-    for (std::uint32_t k = 0; k < w.point_count; ++k) {
-      WidePoint& p = points[k];
-      const Vec3x4 dv = b.linear - a.linear;
-      const Float4 vt1 =
-          dot4(w.tangent1, dv) + dot4(p.tangent1.jacobian_b, b.angular) - dot4(p.tangent1.jacobian_a, a.angular);
-      const Float4 vt2 =
-          dot4(w.tangent2, dv) + dot4(p.tangent2.jacobian_b, b.angular) - dot4(p.tangent2.jacobian_a, a.angular);
-      Float4 new1 = p.tangent1.impulse - p.tangent1.mass * vt1;
-      Float4 new2 = p.tangent2.impulse - p.tangent2.mass * vt2;
-      // Coulomb's cone: the two tangent impulses together within the disc of
-      // radius friction * normal impulse.
-      const Float4 limit = w.friction * p.normal.impulse;
-      const Float4 length2 = new1 * new1 + new2 * new2;
-      const Mask4 outside = length2 > limit * limit;
-      // Mostly every lane sticks (a resting pile): then nothing is scaled,
-      // and the division and square root are skipped.
-      if (any4(outside)) {
-        const Float4 scale = select4(outside, limit / sqrt4(max4(length2, splat4(1e-30f))), one);
-        new1 *= scale;
-        new2 *= scale;
-      }
-      const Float4 d1 = new1 - p.tangent1.impulse, d2 = new2 - p.tangent2.impulse;
-      p.tangent1.impulse = new1;
-      p.tangent2.impulse = new2;
-      const Vec3x4 impulse = d1 * w.tangent1 + d2 * w.tangent2;
-      a.linear = a.linear - w.inverse_mass_a * impulse;
-      a.angular = a.angular - (d1 * p.tangent1.response_a + d2 * p.tangent2.response_a);
-      b.linear = b.linear + w.inverse_mass_b * impulse;
-      b.angular = b.angular + (d1 * p.tangent1.response_b + d2 * p.tangent2.response_b);
-    }
-
-    if (w.spins) {
-      // The spin row of the one-point lanes (zero mass in the others),
-      // within friction * spin_friction * the point's normal impulse.
-      const Float4 spin = dot4(w.normal, b.angular - a.angular);
-      const Float4 limit = w.spin_limit * points[0].normal.impulse;
-      const Float4 accumulated = min4(max4(w.spin_impulse - w.spin_mass * spin, zero - limit), limit);
-      const Float4 d = accumulated - w.spin_impulse;
-      w.spin_impulse = accumulated;
-      a.angular = a.angular - d * w.spin_response_a;
-      b.angular = b.angular + d * w.spin_response_b;
-    }
-
-    scatter_velocity(slots, w.slot_a, w.inverse_mass_a, a);
-    scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
   }
 }
 
@@ -208,32 +341,18 @@ void ContactSolver::solve_joints(const Group& group, bool soft) {
 void ContactSolver::apply_restitution(const Group& group) {
   SolverBody* slots = solver_bodies_.data() + group.first_slot;
   const Float4 threshold = splat4(static_cast<float>(-settings_.restitution_threshold));
-  const Float4 zero = splat4(0.0f);
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     WideConstraint& w = wide_[group.first_wide + i];
-    const Mask4 bouncy = w.restitution > zero;
+    const Mask4 bouncy = w.restitution > splat4(0.0f);
     if ((bouncy[0] | bouncy[1] | bouncy[2] | bouncy[3]) == 0) continue;
-    WideVelocity a = gather_velocity(slots, w.slot_a);
-    WideVelocity b = gather_velocity(slots, w.slot_b);
     WidePoint* points = wide_points_.data() + w.first_point;
-    for (std::uint32_t k = 0; k < w.point_count; ++k) {
-      WidePoint& p = points[k];
-      // Points that approached faster than the threshold and took an
-      // impulse; target v_n = -e v_n(before).
-      const Mask4 bounces = bouncy & (p.relative_velocity <= threshold) & (p.max_normal_impulse > zero);
-      const Float4 vn = dot4(w.normal, b.linear - a.linear) + dot4(p.normal.jacobian_b, b.angular) -
-                        dot4(p.normal.jacobian_a, a.angular);
-      const Float4 accumulated =
-          max4(p.normal.impulse - p.normal.mass * (vn + w.restitution * p.relative_velocity), zero);
-      const Float4 d = select4(bounces, accumulated - p.normal.impulse, zero);
-      p.normal.impulse = p.normal.impulse + d;
-      a.linear = a.linear - (w.inverse_mass_a * d) * w.normal;
-      a.angular = a.angular - d * p.normal.response_a;
-      b.linear = b.linear + (w.inverse_mass_b * d) * w.normal;
-      b.angular = b.angular + d * p.normal.response_b;
+    if (!w.moves_a) {
+      restitution_wide<false, true>(w, points, slots, threshold);
+    } else if (!w.moves_b) {
+      restitution_wide<true, false>(w, points, slots, threshold);
+    } else {
+      restitution_wide<true, true>(w, points, slots, threshold);
     }
-    scatter_velocity(slots, w.slot_a, w.inverse_mass_a, a);
-    scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
   }
 }
 

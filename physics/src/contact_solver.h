@@ -194,6 +194,7 @@ class ContactSolver {
   // body's only where slot_stamp_ holds the group's plan_stamp_).
   std::vector<std::uint32_t> slot_of_body_;
   std::vector<std::uint64_t> slot_stamp_;
+  std::vector<std::uint32_t> packing_;  // a colour's members, one-sided first
   std::uint64_t plan_stamp_ = 0;
   // The slots of each joint of islands_.joints() in its group, and its row.
   struct JointSlots {

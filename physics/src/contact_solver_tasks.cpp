@@ -106,27 +106,49 @@ void ContactSolver::plan_group(Group& group, std::span<const SolverVelocity> vel
   graph_.colour(constraints, bodies_.inverse_mass, slot_of_body_, group.body_count);
 
   // Wide constraints: each colour four at a time, then the overflow one
-  // at a time.
+  // at a time. Within a colour (no two of its constraints share a body, so
+  // their order does not matter) those with side a on the slot of zeros
+  // come first and those with side b there last: the passes skip a side
+  // that every lane of a wide constraint has on the slot of zeros.
   group.first_wide = static_cast<std::uint32_t>(wide_count_);
   for (std::uint32_t colour = 0; colour <= ConstraintGraph::kOverflow; ++colour) {
     const std::span<const std::uint32_t> members = graph_.members(colour);
-    const std::size_t width = colour == ConstraintGraph::kOverflow ? 1 : kLanes;
-    for (std::size_t k = 0; k < members.size(); k += width) {
+    const bool overflow = colour == ConstraintGraph::kOverflow;
+    const std::size_t width = overflow ? 1 : kLanes;
+    packing_.clear();
+    if (overflow) {
+      packing_.assign(members.begin(), members.end());
+    } else {
+      auto fixed = [&](std::uint32_t body) { return slot_of(body) == 0; };
+      for (const std::uint32_t m : members) {
+        if (fixed(constraints[m].body_a)) packing_.push_back(m);
+      }
+      for (const std::uint32_t m : members) {
+        if (!fixed(constraints[m].body_a) && !fixed(constraints[m].body_b)) packing_.push_back(m);
+      }
+      for (const std::uint32_t m : members) {
+        if (!fixed(constraints[m].body_a) && fixed(constraints[m].body_b)) packing_.push_back(m);
+      }
+    }
+    for (std::size_t k = 0; k < packing_.size(); k += width) {
       if (wide_.size() <= wide_count_) wide_.resize(wide_count_ + 1);
       WideConstraint& w = wide_[wide_count_++];
       w.point_count = 0;
+      w.moves_a = w.moves_b = false;
       for (int lane = 0; lane < kLanes; ++lane) {
         const std::size_t at = k + static_cast<std::size_t>(lane);
-        if (static_cast<std::size_t>(lane) >= width || at >= members.size()) {
+        if (static_cast<std::size_t>(lane) >= width || at >= packing_.size()) {
           w.constraint[lane] = kNoConstraint;
           w.slot_a[lane] = w.slot_b[lane] = 0;
           continue;
         }
-        const std::uint32_t index = group.first_constraint + members[at];
-        const ContactConstraint& c = constraints[members[at]];
+        const std::uint32_t index = group.first_constraint + packing_[at];
+        const ContactConstraint& c = constraints[packing_[at]];
         w.constraint[lane] = index;
         w.slot_a[lane] = slot_of(c.body_a);
         w.slot_b[lane] = slot_of(c.body_b);
+        w.moves_a = w.moves_a || w.slot_a[lane] != 0;
+        w.moves_b = w.moves_b || w.slot_b[lane] != 0;
         w.point_count = std::max(w.point_count, c.point_count);
       }
       w.first_point = static_cast<std::uint32_t>(wide_point_count_);

@@ -77,6 +77,10 @@ struct WideConstraint {
   Vec3x4 spin_response_a, spin_response_b;
   Float4 spin_mass, spin_impulse, spin_limit;
   bool spins = false;  // whether any lane has a spin row
+  // Whether some lane's side a (b) reads a slot other than the slot of
+  // zeros. A side that none does (a body of infinite mass at rest in every
+  // lane, as the ground under a pile) is skipped by the passes.
+  bool moves_a = true, moves_b = true;
 };
 
 // The implicit spring of a soft row (Box2D's b2Softness).
@@ -161,7 +165,8 @@ inline Vec3 lane_of(const Vec3x4& v, int lane) { return Vec3(v.x[lane], v.y[lane
 
 // The first three floats of four rows, one row a lane, as three Float4 (a
 // 4 x 4 transpose; the fourth float of each row is padding).
-inline Vec3x4 transpose_rows(const float* r0, const float* r1, const float* r2, const float* r3) {
+[[gnu::always_inline]] inline Vec3x4 transpose_rows(const float* r0, const float* r1, const float* r2,
+                                                    const float* r3) {
   Float4 a, b, c, d;
   std::memcpy(&a, r0, sizeof a);
   std::memcpy(&b, r1, sizeof b);
@@ -179,23 +184,25 @@ inline Vec3x4 transpose_rows(const float* r0, const float* r1, const float* r2, 
 using SolverBodyField = float (SolverBody::*)[4];
 
 // That vector of the bodies in slots index[0..3], lane by lane.
-inline Vec3x4 gather(const SolverBody* slots, const std::uint32_t (&index)[kLanes], SolverBodyField field) {
+[[gnu::always_inline]] inline Vec3x4 gather(const SolverBody* slots, const std::uint32_t (&index)[kLanes],
+                                            SolverBodyField field) {
   return transpose_rows(slots[index[0]].*field, slots[index[1]].*field, slots[index[2]].*field, slots[index[3]].*field);
 }
 
-inline WideVelocity gather_velocity(const SolverBody* slots, const std::uint32_t (&index)[kLanes]) {
+[[gnu::always_inline]] inline WideVelocity gather_velocity(const SolverBody* slots,
+                                                           const std::uint32_t (&index)[kLanes]) {
   return WideVelocity{gather(slots, index, &SolverBody::linear), gather(slots, index, &SolverBody::angular)};
 }
 
-inline WideMotion gather_motion(const SolverBody* slots, const std::uint32_t (&index)[kLanes]) {
+[[gnu::always_inline]] inline WideMotion gather_motion(const SolverBody* slots, const std::uint32_t (&index)[kLanes]) {
   return WideMotion{gather(slots, index, &SolverBody::displacement), gather(slots, index, &SolverBody::rotation)};
 }
 
 // Writes lane l's velocities back to slot index[l], for the lanes whose
 // body moves (inverse_mass[l] != 0): a lane's body of infinite mass may be
 // another lane's too, or the slot of zeros.
-inline void scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[kLanes], const Float4& inverse_mass,
-                             const WideVelocity& v) {
+[[gnu::always_inline]] inline void scatter_velocity(SolverBody* slots, const std::uint32_t (&index)[kLanes],
+                                                    const Float4& inverse_mass, const WideVelocity& v) {
   // Lane l's (x, y, z, 0) of both vectors: the transpose back.
   const Float4 zero = splat4(0.0f);
   const Float4 xy01 = __builtin_shufflevector(v.linear.x, v.linear.y, 0, 4, 1, 5);  // x0 y0 x1 y1
