@@ -35,19 +35,28 @@ struct PassTerms {
   bool soft;         // a soft pass, or a relax pass
 };
 
+// d.(x_b - x_a) without the terms of a fixed side.
+template <bool kSideA, bool kSideB>
+[[gnu::always_inline]] inline Float4 along(const Vec3x4& d, const Vec3x4& xa, const Vec3x4& xb) {
+  if constexpr (kSideA && kSideB) {
+    return dot4(d, xb - xa);
+  } else if constexpr (kSideB) {
+    return dot4(d, xb);
+  } else {
+    return splat4(0.0f) - dot4(d, xa);
+  }
+}
+
 // d.(x_b - x_a) + j_b.y_b - j_a.y_a, the relative velocity along a row
 // (x linear, y angular velocities) or its relative motion (x displacement,
 // y rotation), without the terms of a fixed side.
 template <bool kSideA, bool kSideB>
 [[gnu::always_inline]] inline Float4 along_row(const Vec3x4& d, const Vec3x4& jacobian_a, const Vec3x4& jacobian_b,
                                                const Vec3x4& xa, const Vec3x4& ya, const Vec3x4& xb, const Vec3x4& yb) {
-  if constexpr (kSideA && kSideB) {
-    return dot4(d, xb - xa) + dot4(jacobian_b, yb) - dot4(jacobian_a, ya);
-  } else if constexpr (kSideB) {
-    return dot4(d, xb) + dot4(jacobian_b, yb);
-  } else {
-    return splat4(0.0f) - dot4(d, xa) - dot4(jacobian_a, ya);
-  }
+  Float4 v = along<kSideA, kSideB>(d, xa, xb);
+  if constexpr (kSideB) v = v + dot4(jacobian_b, yb);
+  if constexpr (kSideA) v = v - dot4(jacobian_a, ya);
+  return v;
 }
 
 // Applies an impulse: -P (linear) and -angular_a on side a, +P and
@@ -127,14 +136,7 @@ template <bool kSideA, bool kSideB>
   WideMotion ma{}, mb{};
   if constexpr (kSideA) ma = gather_motion(slots, w.slot_a);
   if constexpr (kSideB) mb = gather_motion(slots, w.slot_b);
-  Float4 moved;
-  if constexpr (kSideA && kSideB) {
-    moved = dot4(w.normal, mb.displacement - ma.displacement);
-  } else if constexpr (kSideB) {
-    moved = dot4(w.normal, mb.displacement);
-  } else {
-    moved = zero - dot4(w.normal, ma.displacement);
-  }
+  const Float4 moved = along<kSideA, kSideB>(w.normal, ma.displacement, mb.displacement);
 
   for (std::uint32_t k = 0; k < w.point_count; ++k) {
     WidePoint& p = points[k];
@@ -201,14 +203,7 @@ template <bool kSideA, bool kSideB>
   if (w.spins) {
     // The spin row of the one-point lanes (zero mass in the others),
     // within friction * spin_friction * the point's normal impulse.
-    Float4 spin;
-    if constexpr (kSideA && kSideB) {
-      spin = dot4(w.normal, b.angular - a.angular);
-    } else if constexpr (kSideB) {
-      spin = dot4(w.normal, b.angular);
-    } else {
-      spin = zero - dot4(w.normal, a.angular);
-    }
+    const Float4 spin = along<kSideA, kSideB>(w.normal, a.angular, b.angular);
     const Float4 limit = w.spin_limit * points[0].normal.impulse;
     const Float4 accumulated = min4(max4(w.spin_impulse - w.spin_mass * spin, zero - limit), limit);
     const Float4 d = accumulated - w.spin_impulse;
@@ -240,6 +235,19 @@ template <bool kSideA, bool kSideB>
     apply_normal_impulse<kSideA, kSideB>(a, b, w, d, p.normal);
   }
   scatter_sides<kSideA, kSideB>(slots, w, a, b);
+}
+
+// Calls f.template operator()<kSideA, kSideB>() with the sides that w
+// moves: a side fixed in every lane is left out.
+template <typename F>
+[[gnu::always_inline]] inline void with_sides(const WideConstraint& w, F&& f) {
+  if (!w.moves_a) {
+    f.template operator()<false, true>();
+  } else if (!w.moves_b) {
+    f.template operator()<true, false>();
+  } else {
+    f.template operator()<true, true>();
+  }
 }
 
 }  // namespace
@@ -302,13 +310,9 @@ void ContactSolver::warm_start(const Group& group) {
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     const WideConstraint& w = wide_[group.first_wide + i];
     const WidePoint* points = wide_points_.data() + w.first_point;
-    if (!w.moves_a) {
-      warm_start_wide<false, true>(w, points, slots);
-    } else if (!w.moves_b) {
-      warm_start_wide<true, false>(w, points, slots);
-    } else {
-      warm_start_wide<true, true>(w, points, slots);
-    }
+    with_sides(
+        w, [&]<bool kSideA, bool kSideB>()
+               __attribute__((always_inline)) { warm_start_wide<kSideA, kSideB>(w, points, slots); });
   }
 }
 
@@ -319,13 +323,9 @@ void ContactSolver::solve_pass(const Group& group, bool soft) {
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     WideConstraint& w = wide_[group.first_wide + i];
     WidePoint* points = wide_points_.data() + w.first_point;
-    if (!w.moves_a) {
-      solve_wide<false, true>(w, points, slots, terms);
-    } else if (!w.moves_b) {
-      solve_wide<true, false>(w, points, slots, terms);
-    } else {
-      solve_wide<true, true>(w, points, slots, terms);
-    }
+    with_sides(
+        w, [&]<bool kSideA, bool kSideB>()
+               __attribute__((always_inline)) { solve_wide<kSideA, kSideB>(w, points, slots, terms); });
   }
 }
 
@@ -346,13 +346,9 @@ void ContactSolver::apply_restitution(const Group& group) {
     const Mask4 bouncy = w.restitution > splat4(0.0f);
     if ((bouncy[0] | bouncy[1] | bouncy[2] | bouncy[3]) == 0) continue;
     WidePoint* points = wide_points_.data() + w.first_point;
-    if (!w.moves_a) {
-      restitution_wide<false, true>(w, points, slots, threshold);
-    } else if (!w.moves_b) {
-      restitution_wide<true, false>(w, points, slots, threshold);
-    } else {
-      restitution_wide<true, true>(w, points, slots, threshold);
-    }
+    with_sides(
+        w, [&]<bool kSideA, bool kSideB>()
+               __attribute__((always_inline)) { restitution_wide<kSideA, kSideB>(w, points, slots, threshold); });
   }
 }
 
