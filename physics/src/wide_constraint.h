@@ -1,18 +1,20 @@
 // Wide constraints: four contact constraints of one colour
 // (constraint_graph.h) solved at once, one in each lane of Float4
 // (float4.h), as Box2D v3 solves its colours (Catto, "Solver2D", 2024).
-// Here are their rows, the build of a lane's rows from a contact, and the
+// Here are their rows, the build of the rows from the contacts, and the
 // gather and scatter of the lanes' bodies between the slots of a group
 // (SolverBody, one body a row) and Vec3x4 (one component a Float4).
 //
 // Each lane's arms and friction directions are found in double precision
 // and stored in single; the rows are then built from them in single
-// precision, the four lanes at once. The row terms follow contact_solver.h: with r_a, r_b the contact point
-// relative to the centres of mass and d the row direction, the Jacobians
-// r_a x d and r_b x d, their products with the inverse inertias (the
-// responses) and the effective mass 1 / (1/M_a + 1/M_b + (r_a x d).I_a^-1
-// (r_a x d) + (r_b x d).I_b^-1 (r_b x d)). A lane without a constraint, or
-// whose constraint has fewer points, holds zeros and takes no impulse.
+// precision, the four lanes at once. The row terms follow
+// contact_solver.h: with r_a, r_b the contact point relative to the
+// centres of mass and d the row direction, the Jacobians r_a x d and
+// r_b x d, their products with the inverse inertias (the responses) and
+// the effective mass
+//   1 / (1/M_a + 1/M_b + (r_a x d).I_a^-1 (r_a x d) + (r_b x d).I_b^-1 (r_b x d)).
+// A lane without a constraint, or whose constraint has fewer points, holds
+// zeros and takes no impulse.
 //
 // Slots: index 0 of a group's slots is its slot of zeros, read by a static
 // body, or a kinematic one standing still: no velocity, no motion, and
