@@ -173,9 +173,9 @@ TEST(SleepingTest, ABoxGrazedInItsSleepSleepsAgainOnceLeftAlone) {
 // A box creeps on frictionless feet at 0.01 m/s, a fifth of the sleep
 // speed, beside a long bar sliding at twice the sleep speed that it
 // touches: the bar holds their group awake. The box stays ready to sleep
-// all along (it moves 5 mm in time_to_sleep, within the 12.5 mm allowed),
-// however far it creeps in all; once the bar stops, the pair sleeps
-// time_to_sleep later.
+// all along (10 mm in its count's first second, 5 mm in each half second
+// after, within the 12.5 mm allowed), however far it creeps in all; once
+// the bar stops, the pair sleeps time_to_sleep later.
 TEST(SleepingTest, ABodyHeldAwakeByItsGroupStaysReadyWhileItCreeps) {
   World world;
   world.add_body(ground_plane());
