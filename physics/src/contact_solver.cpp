@@ -218,9 +218,8 @@ template <bool kSideA, bool kSideB>
 // took an impulse: target v_n = -e v_n(before).
 template <bool kSideA, bool kSideB>
 [[gnu::always_inline]] inline void restitution_wide(WideConstraint& w, WidePoint* points, SolverBody* slots,
-                                                    Float4 threshold) {
+                                                    Mask4 bouncy, Float4 threshold) {
   const Float4 zero = splat4(0.0f);
-  const Mask4 bouncy = w.restitution > zero;
   WideVelocity a{}, b{};
   gather_sides<kSideA, kSideB>(slots, w, a, b);
   for (std::uint32_t k = 0; k < w.point_count; ++k) {
@@ -344,11 +343,12 @@ void ContactSolver::apply_restitution(const Group& group) {
   for (std::uint32_t i = 0; i < group.wide_count; ++i) {
     WideConstraint& w = wide_[group.first_wide + i];
     const Mask4 bouncy = w.restitution > splat4(0.0f);
-    if ((bouncy[0] | bouncy[1] | bouncy[2] | bouncy[3]) == 0) continue;
+    if (!any4(bouncy)) continue;
     WidePoint* points = wide_points_.data() + w.first_point;
     with_sides(
-        w, [&]<bool kSideA, bool kSideB>()
-               __attribute__((always_inline)) { restitution_wide<kSideA, kSideB>(w, points, slots, threshold); });
+        w, [&]<bool kSideA, bool kSideB>() __attribute__((always_inline)) {
+          restitution_wide<kSideA, kSideB>(w, points, slots, bouncy, threshold);
+        });
   }
 }
 
