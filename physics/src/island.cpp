@@ -213,8 +213,8 @@ void World::Impl::wake_island(std::uint32_t body, WakeCause cause) {
     const std::uint32_t i = island_stack_.back();
     island_stack_.pop_back();
     BodyRecord& record = records_[i];
-    // A kept count still measures from the pose it started at: a body the
-    // touch then moves, or speeds up, starts over (update_sleep).
+    // A kept count measures from the pose the body slept in (put_to_sleep):
+    // a body the touch then moves, or speeds up, starts over (update_sleep).
     if (cause == WakeCause::disturbed) record.sleep = SleepProgress{0, states_[i].position, states_[i].orientation};
     record.reach = 0;
     external_[i] = SolverVelocity{};

@@ -66,11 +66,11 @@ struct WorldSettings {
   // A body is still while it stays within sleep_speed * time_to_sleep / 2
   // of where it was time_to_sleep to twice that ago (its centre, and its
   // bounding sphere as it turns) and its speed is not rising steadily (a
-  // body tipping over an edge); a group of bodies joined by joints and by contacts that touch
-  // or can touch within the step sleeps when all its bodies have been still
-  // for time_to_sleep and |v| and |w| times the bounding radius are below
-  // sleep_speed for each. Only groups that touch something sleep: a free
-  // body keeps drifting however slowly it moves.
+  // body tipping over an edge); a group of bodies joined by joints and by
+  // contacts that touch or can touch within the step sleeps when all its
+  // bodies have been still for time_to_sleep and |v| and |w| times the
+  // bounding radius are below sleep_speed for each. Only groups that touch
+  // something sleep: a free body keeps drifting however slowly it moves.
   double sleep_speed = 0.05;   // m/s
   double time_to_sleep = 0.5;  // s
   // The divergence guard (World::diverged_bodies): after each step, a
