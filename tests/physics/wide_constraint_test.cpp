@@ -80,9 +80,6 @@ struct Scene {
   }
 };
 
-// Lane l of a Vec3x4, in double.
-Vec3 lane(const Vec3x4& v, int l) { return Vec3(v.x[l], v.y[l], v.z[l]); }
-
 TEST(WideConstraint, RowsOfFourLanesMatchEachLaneWorkedOutInDouble) {
   const Scene scene;
   WideConstraint w;
@@ -117,8 +114,8 @@ TEST(WideConstraint, RowsOfFourLanesMatchEachLaneWorkedOutInDouble) {
         for (const WideRow* row : rows) {
           EXPECT_EQ(row->mass[l], 0.0f) << "lane " << l << " point " << k;
           EXPECT_EQ(row->impulse[l], 0.0f) << "lane " << l << " point " << k;
-          EXPECT_EQ(lane(row->jacobian_a, l), Vec3::Zero()) << "lane " << l << " point " << k;
-          EXPECT_EQ(lane(row->jacobian_b, l), Vec3::Zero()) << "lane " << l << " point " << k;
+          EXPECT_EQ(lane_of(row->jacobian_a, l), Vec3::Zero()) << "lane " << l << " point " << k;
+          EXPECT_EQ(lane_of(row->jacobian_b, l), Vec3::Zero()) << "lane " << l << " point " << k;
         }
         continue;
       }
@@ -129,7 +126,7 @@ TEST(WideConstraint, RowsOfFourLanesMatchEachLaneWorkedOutInDouble) {
       const Vec3 ra = fixed_a ? Vec3::Zero() : Vec3(point - scene.transforms[c.body_a].position);
       const Vec3 rb = point - scene.transforms[c.body_b].position;
       for (std::size_t r = 0; r < rows.size(); ++r) {
-        const Vec3 d = lane(*directions[r], l);
+        const Vec3 d = lane_of(*directions[r], l);
         const Vec3 ja = ra.cross(d), jb = rb.cross(d);
         const Vec3 response_a = scene.inertia[c.body_a] * ja, response_b = scene.inertia[c.body_b] * jb;
         const double k_row =
@@ -137,12 +134,12 @@ TEST(WideConstraint, RowsOfFourLanesMatchEachLaneWorkedOutInDouble) {
         const std::string where =
             "lane " + std::to_string(l) + " point " + std::to_string(k) + " row " + std::to_string(r);
         EXPECT_NEAR(rows[r]->mass[l], 1.0 / k_row, 1e-5 / k_row) << where;
-        EXPECT_LT((lane(rows[r]->jacobian_a, l) - ja).norm(), 1e-5) << where;
-        EXPECT_LT((lane(rows[r]->jacobian_b, l) - jb).norm(), 1e-5) << where;
-        EXPECT_LT((lane(rows[r]->response_a, l) - response_a).norm(), 1e-4) << where;
-        EXPECT_LT((lane(rows[r]->response_b, l) - response_b).norm(), 1e-4) << where;
+        EXPECT_LT((lane_of(rows[r]->jacobian_a, l) - ja).norm(), 1e-5) << where;
+        EXPECT_LT((lane_of(rows[r]->jacobian_b, l) - jb).norm(), 1e-5) << where;
+        EXPECT_LT((lane_of(rows[r]->response_a, l) - response_a).norm(), 1e-4) << where;
+        EXPECT_LT((lane_of(rows[r]->response_b, l) - response_b).norm(), 1e-4) << where;
       }
-      const Vec3 n = lane(w.normal, l);
+      const Vec3 n = lane_of(w.normal, l);
       const SolverVelocity& va = scene.velocities[c.body_a];
       const SolverVelocity& vb = scene.velocities[c.body_b];
       const double vn = n.dot(vb.linear + vb.angular.cross(rb) - va.linear - va.angular.cross(ra));
