@@ -12,10 +12,14 @@
 // something, falls asleep as a whole: its bodies stop being integrated,
 // their contacts are neither updated nor solved, and to an awake body
 // merely near one of them (its speculative contact) a sleeping body is of
-// infinite mass. Anything that disturbs one of its bodies, or comes to
-// touch it, wakes the whole group and the sleeping bodies touching it; a
-// touch leaves their counts running (Catto, "Box2D" b2Island; Baraff's
-// notes leave sleeping out). The islands of a step are built once, by the
+// infinite mass (Catto, "Box2D" b2Island; Baraff's notes leave sleeping
+// out). In a group whose other bodies are settling (slow, but not yet still
+// for long enough), the bodies that are ready and rest on something that
+// does not move sleep already; the settling ones lean on them as on the
+// ground. Anything that disturbs a sleeping body, or comes to touch it,
+// wakes its whole group and the sleeping bodies touching it, and so does a
+// body that stirs (stirring()) in a group that touches it; a touch leaves
+// their counts running. The islands of a step are built once, by the
 // contact solver (contact_islands.h), and read here.
 #include <algorithm>
 #include <span>
@@ -47,6 +51,16 @@ constexpr double kTouchSlop = 0.005;
 constexpr std::uint8_t kGroupNotReady = 1;  // a body not yet ready to sleep
 constexpr std::uint8_t kGroupTouches = 2;   // a contact that touches, or a joint
 constexpr std::uint8_t kGroupCarried = 4;   // a kinematic body in motion
+constexpr std::uint8_t kGroupStirs = 8;     // a body not ready that stirs (stirring())
+constexpr std::uint8_t kGroupRests = 16;    // a touch or joint to what does not move: static, asleep, the world
+
+// sleep_parent_ of a body outside the settled part of its group.
+constexpr std::uint32_t kNotSettled = 0xffffffff;
+
+// wake_beside_stirring()'s verdict on a body its flood reached, in
+// sleep_flags_.
+constexpr std::uint8_t kReachedQuiet = 1;
+constexpr std::uint8_t kReachedStirs = 2;
 
 }  // namespace
 
@@ -156,7 +170,9 @@ void World::Impl::update_sleep(double dt) {
       if (in_group(j.body_a) && in_group(j.body_b)) unite(sleep_parent_, j.body_a, j.body_b);
     }
     for (std::uint32_t body : members) {
-      if (!ready_to_sleep(records_[body])) sleep_flags_[sleep_root(body)] |= kGroupNotReady;
+      if (ready_to_sleep(records_[body])) continue;
+      sleep_flags_[sleep_root(body)] |= kGroupNotReady;
+      if (stirring(body)) sleep_flags_[sleep_root(body)] |= kGroupStirs;
     }
     for (const ContactConstraint& c : contacts) {
       mark(c.body_a, c.body_b,
@@ -168,10 +184,122 @@ void World::Impl::update_sleep(double dt) {
            static_cast<std::uint8_t>(kGroupTouches |
                                      (moving_kinematic(j.body_a) || moving_kinematic(j.body_b) ? kGroupCarried : 0)));
     }
+    // A group all ready sleeps whole. In a group whose bodies not ready are
+    // all settling (none stirs), the ready ones that rest on something that
+    // does not move sleep on their own: each part of them joined by
+    // contacts that may touch and by joints. A settling body then leans on
+    // them as on the ground until it is ready too, or stirs and wakes them
+    // (wake_beside_stirring): a landing heap sleeps cube by cube while its
+    // last cubes settle, instead of all at once after the last.
+    settled_.clear();
     for (std::uint32_t body : members) {
-      if (sleep_flags_[sleep_root(body)] == kGroupTouches) put_to_sleep(body);
+      const std::uint8_t flags = sleep_flags_[sleep_root(body)];
+      if (flags == kGroupTouches) {
+        put_to_sleep(body);
+      } else if (!(flags & (kGroupStirs | kGroupCarried)) && ready_to_sleep(records_[body])) {
+        settled_.push_back(body);
+      }
+    }
+    if (settled_.empty()) continue;
+    for (std::uint32_t body : members) sleep_parent_[body] = kNotSettled;
+    for (std::uint32_t body : settled_) {
+      sleep_parent_[body] = body;
+      sleep_flags_[body] = 0;
+    }
+    auto settled = [&](std::uint32_t body) { return in_group(body) && sleep_parent_[body] != kNotSettled; };
+    for (const ContactConstraint& c : contacts) {
+      if (c.may_touch && settled(c.body_a) && settled(c.body_b)) unite(sleep_parent_, c.body_a, c.body_b);
+    }
+    for (const JointConstraint& j : island_joints) {
+      if (settled(j.body_a) && settled(j.body_b)) unite(sleep_parent_, j.body_a, j.body_b);
+    }
+    // What each part rests on: a contact that may touch a static body, a
+    // kinematic one at rest or a sleeping one, or a joint to such a body or
+    // to the world. A joint to a body not ready holds the part awake.
+    auto rest = [&](std::uint32_t body, std::uint32_t other, bool joint) {
+      if (!settled(body)) return;
+      if (other == kNoJointBody || !in_group(other)) {
+        sleep_flags_[sleep_root(body)] |= kGroupRests;
+      } else if (joint && !settled(other)) {
+        sleep_flags_[sleep_root(body)] |= kGroupNotReady;
+      }
+    };
+    for (const ContactConstraint& c : contacts) {
+      if (!c.may_touch) continue;
+      rest(c.body_a, c.body_b, false);
+      rest(c.body_b, c.body_a, false);
+    }
+    for (const JointConstraint& j : island_joints) {
+      rest(j.body_a, j.body_b, true);
+      rest(j.body_b, j.body_a, true);
+    }
+    for (std::uint32_t body : settled_) {
+      if (sleep_flags_[sleep_root(body)] == kGroupRests) put_to_sleep(body);
     }
   }
+}
+
+bool World::Impl::stirring(std::uint32_t body) const {
+  const BodyRecord& record = records_[body];
+  if (record.motion_type == MotionType::kinematic_body) return awake_[body] != 0;
+  const SleepProgress& sleep = record.sleep;
+  return sleep.time == 0 || sleep.last_speed >= settings_.sleep_speed || accelerating(sleep);
+}
+
+void World::Impl::wake_beside_stirring() {
+  if (beside_sleepers_.empty()) return;
+  if (sleep_flags_.size() < records_.size()) {
+    sleep_parent_.resize(records_.size());
+    sleep_flags_.resize(records_.size(), 0);
+  }
+  // Floods the awake bodies joined to `start` by contacts that may touch
+  // and by joints, and marks them all with whether one of them stirs (or
+  // touches a kinematic body in motion, which stirs but joins nothing).
+  auto flood = [&](std::uint32_t start) {
+    const std::size_t first = stir_reached_.size();
+    stir_reached_.push_back(start);
+    sleep_flags_[start] = kReachedQuiet;
+    bool stirs = false;
+    auto reach = [&](std::uint32_t other) {
+      if (!awake_[other]) return;
+      if (!is_dynamic(other)) {
+        stirs = stirs || stirring(other);
+      } else if (sleep_flags_[other] == 0) {
+        sleep_flags_[other] = kReachedQuiet;
+        stir_reached_.push_back(other);
+      }
+    };
+    for (std::size_t k = first; k < stir_reached_.size(); ++k) {
+      const std::uint32_t i = stir_reached_[k];
+      stirs = stirs || stirring(i);
+      for (ContactKey key = records_[i].contact_head; key != kNullContactKey;) {
+        const ContactLink& link = links_[key >> 1];
+        const std::uint32_t side = key & 1;
+        key = link.next[side];
+        if (link.may_touch) reach(side == 0 ? link.body_b : link.body_a);
+      }
+      const BodyId id = dense_to_id_[i];
+      if (id >= body_joints_.size()) continue;
+      for (JointId joint_id : body_joints_[id]) {
+        const JointDesc& desc = joints_[joint_id_to_dense_[joint_id]].desc;
+        const BodyId other_id = desc.body_a == id ? desc.body_b : desc.body_a;
+        if (other_id != kWorldBodyId) reach(id_to_dense_[other_id]);
+      }
+    }
+    if (!stirs) return;
+    for (std::size_t k = first; k < stir_reached_.size(); ++k) sleep_flags_[stir_reached_[k]] = kReachedStirs;
+  };
+  stir_reached_.clear();
+  for (std::uint32_t slot : beside_sleepers_) {
+    const ContactLink& link = links_[slot];
+    // An earlier slot's wake may have reached either side.
+    std::uint32_t sleeper = link.body_a, neighbour = link.body_b;
+    if (!asleep(sleeper)) std::swap(sleeper, neighbour);
+    if (!asleep(sleeper) || !awake_[neighbour] || !is_dynamic(neighbour)) continue;
+    if (sleep_flags_[neighbour] == 0) flood(neighbour);
+    if (sleep_flags_[neighbour] == kReachedStirs) wake_island(sleeper, WakeCause::touched);
+  }
+  for (std::uint32_t body : stir_reached_) sleep_flags_[body] = 0;
 }
 
 bool World::Impl::may_touch(std::uint32_t slot) const {
@@ -203,7 +331,15 @@ void World::Impl::put_to_sleep(std::uint32_t body) {
 }
 
 void World::Impl::wake_island(std::uint32_t body, WakeCause cause) {
-  if (records_[body].motion_type != MotionType::dynamic_body || awake_[body]) return;
+  if (records_[body].motion_type != MotionType::dynamic_body) return;
+  if (awake_[body]) {
+    // Its count starts over, so that it stirs (stirring()): whatever
+    // sleeps against it wakes before the step moves it.
+    if (cause == WakeCause::disturbed) {
+      records_[body].sleep = SleepProgress{0, states_[body].position, states_[body].orientation};
+    }
+    return;
+  }
   // Flood over touching contacts and joints to the sleeping dynamic bodies.
   island_stack_.clear();
   island_stack_.push_back(body);

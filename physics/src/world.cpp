@@ -193,14 +193,17 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   refresh_solver_data(index);
   aabbs_.push_back(shape_aabb(index));
   box_passes_.push_back(contact_pass_ + 1);
-  // A flood of wake_island() visits each body once, so its scratch never
+  // A flood of wake_island() or wake_beside_stirring() visits each body
+  // once, and update_sleep() lists each at most once, so their scratch never
   // needs more than a slot a body: room for all of them now, growing with
-  // the body arrays, keeps waking free of allocation.
+  // the body arrays, keeps waking and sleeping free of allocation.
   if (island_stack_.capacity() < records_.size()) {
     island_stack_.reserve(records_.capacity());
     woken_.reserve(records_.capacity());
     sleep_parent_.reserve(records_.capacity());
     sleep_flags_.reserve(records_.capacity());
+    settled_.reserve(records_.capacity());
+    stir_reached_.reserve(records_.capacity());
   }
   // Contacts: address space for a few a body, reserved as bodies come and
   // written only as slots are used. Otherwise the landing of a pile, whose
@@ -211,6 +214,7 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   if (contacts_.capacity() < kContactSlotsPerBody * records_.size()) {
     contacts_.reserve(kContactSlotsPerBody * records_.capacity());
     links_.reserve(kContactSlotsPerBody * records_.capacity());
+    beside_sleepers_.reserve(kContactSlotsPerBody * records_.capacity());
     pairs_.reserve(kContactSlotsPerBody * records_.capacity());
     solver_.reserve(kTouchingContactsPerBody * records_.capacity());
   }

@@ -43,10 +43,11 @@ void prefetch_contact(const Contact& c) {
 }
 
 // What update_contact() asks of finish_contact_update(), as bits.
-constexpr std::uint8_t kContactDestroy = 1;   // the fat boxes no longer overlap
-constexpr std::uint8_t kContactCollided = 2;  // the manifold was updated (computed or reused)
-constexpr std::uint8_t kContactComputed = 4;  // ... computed afresh from the shapes
-constexpr std::uint8_t kContactTouching = 8;  // the manifold has points
+constexpr std::uint8_t kContactDestroy = 1;           // the fat boxes no longer overlap
+constexpr std::uint8_t kContactCollided = 2;          // the manifold was updated (computed or reused)
+constexpr std::uint8_t kContactComputed = 4;          // ... computed afresh from the shapes
+constexpr std::uint8_t kContactTouching = 8;          // the manifold has points
+constexpr std::uint8_t kContactStartedTouching = 16;  // may_touch now and not at the last update
 
 bool is_polyhedron(ShapeType type) { return type == ShapeType::box || type == ShapeType::convex_hull; }
 
@@ -243,7 +244,9 @@ void World::Impl::update_contacts() {
   }
   // Then, in slot order, what the pairs ask of the world.
   collecting_woken_ = true;
+  beside_sleepers_.clear();
   for (std::size_t k = 0; k < updating_.size(); ++k) finish_contact_update(updating_[k], updates_[k]);
+  wake_beside_stirring();
   // Bodies woken by a touch above have contacts that were not looked at
   // (both bodies slept): those join this step too. The list grows while it
   // is walked.
@@ -306,9 +309,11 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
   Contact& c = contacts_[slot];
   std::uint8_t update = kContactCollided;
   if (update_manifold(c, slot)) update |= kContactComputed;
+  const bool touched_before = link.may_touch;
   link.touching = c.manifold.point_count > 0;
   link.may_touch = link.touching && may_touch(slot);
   if (link.touching) update |= kContactTouching;
+  if (link.may_touch && !touched_before) update |= kContactStartedTouching;
   return update;
 }
 
@@ -320,12 +325,18 @@ void World::Impl::finish_contact_update(std::uint32_t slot, std::uint8_t update)
   if (update & kContactCollided) ++stats_.narrowphase_pairs;
   if (update & kContactComputed) ++stats_.manifolds_computed;
   if (!(update & kContactTouching)) return;
-  // Touching a sleeping body wakes its group; one merely near stays
-  // asleep, of infinite mass to the solver (island.cpp).
+  // Coming to touch a sleeping body wakes its group; one merely near stays
+  // asleep, of infinite mass to the solver (island.cpp). So does one that
+  // stays in touch with a settling body, until something it is in touch
+  // with stirs (wake_beside_stirring).
   const ContactLink& link = links_[slot];
-  if ((!awake_[link.body_a] || !awake_[link.body_b]) && link.may_touch) {
-    wake_island(link.body_a, WakeCause::touched);
-    wake_island(link.body_b, WakeCause::touched);
+  if (link.may_touch && (asleep(link.body_a) || asleep(link.body_b))) {
+    if (update & kContactStartedTouching) {
+      wake_island(link.body_a, WakeCause::touched);
+      wake_island(link.body_b, WakeCause::touched);
+    } else {
+      beside_sleepers_.push_back(slot);
+    }
   }
   active_.push_back(slot);
 }

@@ -202,6 +202,16 @@ class World::Impl {
   enum class WakeCause : std::uint8_t { disturbed, touched };
   void wake_island(std::uint32_t body, WakeCause cause = WakeCause::disturbed);
   void put_to_sleep(std::uint32_t body);
+  // A dynamic body that sleeps.
+  bool asleep(std::uint32_t body) const { return !awake_[body] && is_dynamic(body); }
+  // Whether an awake body may disturb a sleeping one it rests against: a
+  // kinematic body in motion, or a dynamic one that is not settling (its
+  // count just started over, it is at or above the sleep speed, or it is
+  // speeding up).
+  bool stirring(std::uint32_t body) const;
+  // Wakes each sleeping body of beside_sleepers_ whose awake neighbour is
+  // joined, by contacts that may touch and by joints, to a stirring body.
+  void wake_beside_stirring();
   // Whether the contact in `slot` touches, or its bodies can close its gap
   // within this step: a point within kTouchSlop plus both bodies' reach.
   bool may_touch(std::uint32_t slot) const;
@@ -280,8 +290,14 @@ class World::Impl {
   // island's sleep groups, and at a group's root what the group holds.
   std::vector<std::uint32_t> sleep_parent_;
   std::vector<std::uint8_t> sleep_flags_;
-  std::vector<std::uint32_t> woken_;  // bodies wake_island() woke during update_contacts()
-  bool collecting_woken_ = false;     // in update_contacts(): wake_island() adds to woken_
+  std::vector<std::uint32_t> settled_;  // of update_sleep(): an island's ready bodies that may sleep apart
+  std::vector<std::uint32_t> woken_;    // bodies wake_island() woke during update_contacts()
+  // Slots of this step's contacts that may touch, between an awake body and
+  // a sleeping one that were in touch at the last update as well.
+  std::vector<std::uint32_t> beside_sleepers_;
+  // Scratch of wake_beside_stirring(): the awake bodies its floods reached.
+  std::vector<std::uint32_t> stir_reached_;
+  bool collecting_woken_ = false;  // in update_contacts(): wake_island() adds to woken_
 
   StepStats stats_;
   std::vector<BodyId> diverged_;  // diverged_bodies() of the last step

@@ -71,6 +71,8 @@ struct WorldSettings {
   // bodies have been still for time_to_sleep and |v| and |w| times the
   // bounding radius are below sleep_speed for each. Only groups that touch
   // something sleep: a free body keeps drifting however slowly it moves.
+  // While some bodies of a group still settle below sleep_speed, those
+  // ready that rest on the ground or on sleeping bodies sleep already.
   double sleep_speed = 0.05;   // m/s
   double time_to_sleep = 0.5;  // s
   // The divergence guard (World::diverged_bodies): after each step, a
