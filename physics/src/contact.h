@@ -40,6 +40,7 @@ struct ContactLink {
   // The bodies' step boxes were apart at the last update (no points
   // possible); while neither box changes the pair needs no look.
   bool apart = false;
+  bool with_plane = false;  // body_b is a plane: the pair lives while a's box reaches it
 };
 
 // The rest of a contact; its pair is in the ContactLink at the same index.

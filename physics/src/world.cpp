@@ -193,6 +193,7 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
   refresh_solver_data(index);
   aabbs_.push_back(shape_aabb(index));
   box_passes_.push_back(contact_pass_ + 1);
+  fat_passes_.push_back(contact_pass_ + 1);
   // A flood of wake_island() or wake_beside_stirring() visits each body
   // once, and update_sleep() lists each at most once, so their scratch never
   // needs more than a slot a body: room for all of them now, growing with
@@ -272,6 +273,7 @@ bool World::Impl::remove_body(BodyId id) {
   swap_remove(restitutions_, index);
   swap_remove(aabbs_, index);
   swap_remove(box_passes_, index);
+  swap_remove(fat_passes_, index);
   if (index != last) id_to_dense_[dense_to_id_[index]] = index;
   id_to_dense_[id] = kNoIndex;
   return true;
@@ -397,6 +399,7 @@ void World::Impl::set_state(BodyId id, const Vec3& position, const Quat& orienta
   DynamicTree& tree = is_static ? static_tree_ : movable_tree_;
   const Aabb fat = is_static ? aabbs_[i] : aabbs_[i].expanded(settings_.aabb_margin);
   tree.move_proxy(record.proxy, fat);
+  fat_passes_[i] = contact_pass_ + 1;
   auto visit = [&](std::uint32_t other) {
     if (other != i && can_collide(i, other) && !has_contact(i, other)) create_contact(i, other);
   };

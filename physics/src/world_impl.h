@@ -241,6 +241,9 @@ class World::Impl {
   // The contact pass (contact_pass_) that first sees aabbs_[i] as it is:
   // a contact updated in a later pass has seen this box (set_box).
   std::vector<std::uint64_t> box_passes_;
+  // The same for body i's fat box in its broadphase tree: a pair whose
+  // bodies' fat boxes are both older than its last update still overlaps.
+  std::vector<std::uint64_t> fat_passes_;
 
   // Indexed by id; kNoIndex once removed. Its size is the next id to hand out.
   std::vector<std::uint32_t> id_to_dense_;

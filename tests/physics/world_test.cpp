@@ -211,6 +211,31 @@ TEST(WorldTest, ForceAtPointAccumulatesTorque) {
 
 // The divergence guard: after a step, a moving body beyond
 // max_state_magnitude or not finite is listed; the others never are.
+// A pair lives while the bodies' fat boxes (their boxes grown by the
+// broadphase margin, 0.1 m) overlap: a box drifting away from a still one
+// loses the pair once the gap outgrows both margins, though the still box's
+// fat box never moves; a box teleported away loses it at the next step.
+TEST(WorldTest, APairLivesWhileTheFatBoxesOverlap) {
+  World world;
+  world.set_settings(testing::settings_without_sleep());
+  world.set_gravity(Vec3::Zero());
+  world.add_body(testing::box_body(Vec3(0, 0, 0)));
+  BodyDesc drifting = testing::box_body(Vec3(1.05, 0, 0));
+  drifting.linear_velocity = Vec3(0.5, 0, 0);
+  const BodyId away = world.add_body(drifting);
+  const BodyId teleported = world.add_body(testing::box_body(Vec3(-1.05, 0, 0)));
+  world.step(testing::kTick);
+  EXPECT_EQ(world.last_step_stats().pairs, 2u);
+  // 0.5 m/s for 1 s: 0.55 m apart, more than two margins and the lead of
+  // the drifting box's fat box (two steps of its motion).
+  for (int i = 0; i < static_cast<int>(1.0 / testing::kTick); ++i) world.step(testing::kTick);
+  EXPECT_GT(world.position(away).x(), 1.5);
+  EXPECT_EQ(world.last_step_stats().pairs, 1u);
+  world.set_state(teleported, Vec3(0, 0, 10), Quat::Identity(), Vec3::Zero(), Vec3::Zero());
+  world.step(testing::kTick);
+  EXPECT_EQ(world.last_step_stats().pairs, 0u);
+}
+
 TEST(WorldTest, DivergedBodiesAreListedAfterTheStepThatMadeThem) {
   World world;
   world.set_gravity(Vec3::Zero());

@@ -10,6 +10,7 @@ namespace tumble::physics {
 struct StepStats {
   std::size_t integrated_bodies = 0;   // awake dynamic and moving kinematic bodies advanced
   std::size_t moved_proxies = 0;       // fat boxes replaced in the broadphase
+  std::size_t pairs = 0;               // contacts alive after it: pairs whose fat boxes overlap
   std::size_t narrowphase_pairs = 0;   // contacts whose manifold was updated (computed or reused)
   std::size_t manifolds_computed = 0;  // of those, recomputed from the shapes
   std::size_t solved_contacts = 0;     // manifolds with points given to the solver
