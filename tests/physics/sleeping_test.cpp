@@ -308,6 +308,33 @@ TEST(SleepingTest, ABoxOnASettlingBoxWaitsForIt) {
   EXPECT_LT(slept_after, 0.45);
 }
 
+// Two boxes side by side on the ground, joined by a ball joint at the
+// middle of the faces they share: the right one has been still for
+// time_to_sleep, the left one only for 0.1 s. A joint holds the two
+// together, so the ready box waits, though it rests on the ground.
+TEST(SleepingTest, ABoxJointedToASettlingBoxWaitsForIt) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId left = world.add_body(box_body(Vec3(0, 0.5, 0)));
+  const BodyId right = world.add_body(box_body(Vec3(1.0, 0.5, 0)));
+  JointDesc joint;
+  joint.body_a = left;
+  joint.body_b = right;
+  joint.local_anchor_a = Vec3(0.5, 0, 0);
+  joint.local_anchor_b = Vec3(-0.5, 0, 0);
+  world.add_joint(joint);
+  for (int i = 0; i < static_cast<int>(1.0 / kTick); ++i) world.step(kTick);
+  for (const BodyId id : {left, right}) {
+    SleepProgress sleep{id == left ? 0.1 : 0.6, world.position(id), world.orientation(id)};
+    world.restore_state(id, world.position(id), world.orientation(id), Vec3::Zero(), Vec3::Zero(), true, sleep);
+  }
+  world.step(kTick);
+  EXPECT_TRUE(world.is_awake(right));
+  const double slept_after = time_to_sleep(world, {left, right}, 1.0);
+  EXPECT_GT(slept_after, 0.35);
+  EXPECT_LT(slept_after, 0.45);
+}
+
 // physics_compare's landing: 30 x 30 cubes of 0.3 m, 0.4 m apart, tilted
 // by 0.3 to 1 rad about axes that turn from cube to cube and dropped from
 // 0.4, 0.95 or 1.5 m, and a 1 m cube of 10 kg dropped from 2.3 m onto the
