@@ -238,6 +238,16 @@ void drop_beside(Settling& s) {
   ASSERT_TRUE(s.world.is_awake(s.settling));
 }
 
+// After a disturbance of the settling box: steps once, checks that the
+// sleeping box woke within that step, and returns where it is half a second
+// later.
+double resting_x_after_disturbance(Settling& s) {
+  s.world.step(kTick);
+  EXPECT_TRUE(s.world.is_awake(s.resting));
+  for (int i = 0; i < static_cast<int>(0.5 / kTick); ++i) s.world.step(kTick);
+  return s.world.position(s.resting).x();
+}
+
 TEST(SleepingTest, ABoxSleepsBesideOneStillSettling) {
   Settling s;
   ASSERT_NO_FATAL_FAILURE(drop_beside(s));
@@ -261,12 +271,9 @@ TEST(SleepingTest, APushOnASettlingBoxMovesTheBoxAsleepAgainstIt) {
   Settling s;
   ASSERT_NO_FATAL_FAILURE(drop_beside(s));
   s.world.apply_impulse(s.settling, Vec3(-4, 0, 0));
-  s.world.step(kTick);
-  EXPECT_TRUE(s.world.is_awake(s.resting));
-  for (int i = 0; i < static_cast<int>(0.5 / kTick); ++i) s.world.step(kTick);
   // Equal masses: about 2 m/s each after the push, which friction (0.5 g)
   // stops within 0.4 m.
-  EXPECT_LT(s.world.position(s.resting).x(), -0.2);
+  EXPECT_LT(resting_x_after_disturbance(s), -0.2);
 }
 
 // A frictionless box slides at 2 m/s towards the settling box, which the
@@ -281,10 +288,7 @@ TEST(SleepingTest, ABlowThroughASettlingBoxWakesTheBoxAsleepBehindIt) {
   desc.friction = 0;
   desc.linear_velocity = Vec3(-2, 0, 0);
   s.world.add_body(desc);
-  s.world.step(kTick);
-  EXPECT_TRUE(s.world.is_awake(s.resting));
-  for (int i = 0; i < static_cast<int>(0.5 / kTick); ++i) s.world.step(kTick);
-  EXPECT_LT(s.world.position(s.resting).x(), -0.05);
+  EXPECT_LT(resting_x_after_disturbance(s), -0.05);
 }
 
 // Two boxes stacked and at rest, both awake: the top one has been still for
