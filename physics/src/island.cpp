@@ -58,7 +58,7 @@ constexpr std::uint8_t kGroupRests = 16;    // a touch or joint to what does not
 constexpr std::uint32_t kNotSettled = 0xffffffff;
 
 // wake_beside_stirring()'s verdict on a body its flood reached, in
-// sleep_flags_.
+// stir_marks_ (0: not reached).
 constexpr std::uint8_t kReachedQuiet = 1;
 constexpr std::uint8_t kReachedStirs = 2;
 
@@ -248,24 +248,21 @@ bool World::Impl::stirring(std::uint32_t body) const {
 
 void World::Impl::wake_beside_stirring() {
   if (beside_sleepers_.empty()) return;
-  if (sleep_flags_.size() < records_.size()) {
-    sleep_parent_.resize(records_.size());
-    sleep_flags_.resize(records_.size(), 0);
-  }
+  if (stir_marks_.size() < records_.size()) stir_marks_.resize(records_.size(), 0);
   // Floods the awake bodies joined to `start` by contacts that may touch
   // and by joints, and marks them all with whether one of them stirs (or
   // touches a kinematic body in motion, which stirs but joins nothing).
   auto flood = [&](std::uint32_t start) {
     const std::size_t first = stir_reached_.size();
     stir_reached_.push_back(start);
-    sleep_flags_[start] = kReachedQuiet;
+    stir_marks_[start] = kReachedQuiet;
     bool stirs = false;
     auto reach = [&](std::uint32_t other) {
       if (!awake_[other]) return;
       if (!is_dynamic(other)) {
         stirs = stirs || stirring(other);
-      } else if (sleep_flags_[other] == 0) {
-        sleep_flags_[other] = kReachedQuiet;
+      } else if (stir_marks_[other] == 0) {
+        stir_marks_[other] = kReachedQuiet;
         stir_reached_.push_back(other);
       }
     };
@@ -287,7 +284,7 @@ void World::Impl::wake_beside_stirring() {
       }
     }
     if (!stirs) return;
-    for (std::size_t k = first; k < stir_reached_.size(); ++k) sleep_flags_[stir_reached_[k]] = kReachedStirs;
+    for (std::size_t k = first; k < stir_reached_.size(); ++k) stir_marks_[stir_reached_[k]] = kReachedStirs;
   };
   stir_reached_.clear();
   for (std::uint32_t slot : beside_sleepers_) {
@@ -296,10 +293,10 @@ void World::Impl::wake_beside_stirring() {
     std::uint32_t sleeper = link.body_a, neighbour = link.body_b;
     if (!asleep(sleeper)) std::swap(sleeper, neighbour);
     if (!asleep(sleeper) || !awake_[neighbour] || !is_dynamic(neighbour)) continue;
-    if (sleep_flags_[neighbour] == 0) flood(neighbour);
-    if (sleep_flags_[neighbour] == kReachedStirs) wake_island(sleeper, WakeCause::touched);
+    if (stir_marks_[neighbour] == 0) flood(neighbour);
+    if (stir_marks_[neighbour] == kReachedStirs) wake_island(sleeper, WakeCause::touched);
   }
-  for (std::uint32_t body : stir_reached_) sleep_flags_[body] = 0;
+  for (std::uint32_t body : stir_reached_) stir_marks_[body] = 0;
 }
 
 bool World::Impl::may_touch(std::uint32_t slot) const {

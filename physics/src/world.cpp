@@ -205,6 +205,7 @@ BodyId World::Impl::add_body_with_id(const BodyDesc& desc, BodyId id) {
     sleep_flags_.reserve(records_.capacity());
     settled_.reserve(records_.capacity());
     stir_reached_.reserve(records_.capacity());
+    stir_marks_.reserve(records_.capacity());
   }
   // Contacts: address space for a few a body, reserved as bodies come and
   // written only as slots are used. Otherwise the landing of a pile, whose

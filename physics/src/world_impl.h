@@ -298,8 +298,11 @@ class World::Impl {
   // Slots of this step's contacts that may touch, between an awake body and
   // a sleeping one that were in touch at the last update as well.
   std::vector<std::uint32_t> beside_sleepers_;
-  // Scratch of wake_beside_stirring(): the awake bodies its floods reached.
+  // Scratch of wake_beside_stirring(): the awake bodies its floods reached,
+  // and by body its verdict on them (all 0 between calls; apart from
+  // sleep_flags_, which update_sleep() leaves as its groups were).
   std::vector<std::uint32_t> stir_reached_;
+  std::vector<std::uint8_t> stir_marks_;
   bool collecting_woken_ = false;  // in update_contacts(): wake_island() adds to woken_
 
   StepStats stats_;

@@ -291,6 +291,37 @@ TEST(SleepingTest, ABlowThroughASettlingBoxWakesTheBoxAsleepBehindIt) {
   EXPECT_LT(resting_x_after_disturbance(s), -0.05);
 }
 
+// The blow through a settling box again, where the settling box's group
+// also holds a ready box that waits for it (a small one on top of it), so that the
+// step before the blow the sleep pass judged their group: what it noted
+// then must not stand for whether anything stirs now.
+TEST(SleepingTest, ABlowThroughASettlingBoxWithABoxOnItWakesTheBoxAsleepBehindIt) {
+  World world;
+  world.add_body(ground_plane());
+  const BodyId settling = world.add_body(box_body(Vec3(1.002, 0.5, 0)));
+  const BodyId resting = world.add_body(box_body(Vec3(0, 0.5, 0)));
+  const BodyId top = world.add_body(box_body(Vec3(1.2, 1.25, 0), 0.25));
+  for (int i = 0; i < static_cast<int>(1.0 / kTick); ++i) world.step(kTick);
+  // Still for 0.1 s, for time_to_sleep and more, and for time_to_sleep.
+  const double still_for[] = {0.1, 0.6, 0.6};
+  const BodyId bodies[] = {settling, resting, top};
+  for (int k = 0; k < 3; ++k) {
+    const BodyId id = bodies[k];
+    world.restore_state(id, world.position(id), world.orientation(id), Vec3::Zero(), Vec3::Zero(), true,
+                        SleepProgress{still_for[k], world.position(id), world.orientation(id)});
+  }
+  world.step(kTick);
+  ASSERT_FALSE(world.is_awake(resting));
+  ASSERT_TRUE(world.is_awake(settling));
+  ASSERT_TRUE(world.is_awake(top));
+  BodyDesc desc = box_body(Vec3(2.014, 0.5, 0));
+  desc.friction = 0;
+  desc.linear_velocity = Vec3(-2, 0, 0);
+  world.add_body(desc);
+  world.step(kTick);
+  EXPECT_TRUE(world.is_awake(resting));
+}
+
 // Two boxes stacked and at rest, both awake: the top one has been still for
 // time_to_sleep, the bottom one only for 0.1 s. The top one rests on nothing
 // but a body that may yet move, so it waits: the two sleep together once
