@@ -239,6 +239,23 @@ void World::Impl::update_sleep(double dt) {
   }
 }
 
+template <typename Visit>
+void World::Impl::for_each_neighbour(std::uint32_t body, Visit&& visit) const {
+  for (ContactKey key = records_[body].contact_head; key != kNullContactKey;) {
+    const ContactLink& link = links_[key >> 1];
+    const std::uint32_t side = key & 1;
+    key = link.next[side];
+    if (link.may_touch) visit(side == 0 ? link.body_b : link.body_a);
+  }
+  const BodyId id = dense_to_id_[body];
+  if (id >= body_joints_.size()) return;
+  for (JointId joint_id : body_joints_[id]) {
+    const JointDesc& desc = joints_[joint_id_to_dense_[joint_id]].desc;
+    const BodyId other_id = desc.body_a == id ? desc.body_b : desc.body_a;
+    if (other_id != kWorldBodyId) visit(id_to_dense_[other_id]);
+  }
+}
+
 bool World::Impl::stirring(std::uint32_t body) const {
   const BodyRecord& record = records_[body];
   if (record.motion_type == MotionType::kinematic_body) return awake_[body] != 0;
@@ -269,19 +286,7 @@ void World::Impl::wake_beside_stirring() {
     for (std::size_t k = first; k < stir_reached_.size(); ++k) {
       const std::uint32_t i = stir_reached_[k];
       stirs = stirs || stirring(i);
-      for (ContactKey key = records_[i].contact_head; key != kNullContactKey;) {
-        const ContactLink& link = links_[key >> 1];
-        const std::uint32_t side = key & 1;
-        key = link.next[side];
-        if (link.may_touch) reach(side == 0 ? link.body_b : link.body_a);
-      }
-      const BodyId id = dense_to_id_[i];
-      if (id >= body_joints_.size()) continue;
-      for (JointId joint_id : body_joints_[id]) {
-        const JointDesc& desc = joints_[joint_id_to_dense_[joint_id]].desc;
-        const BodyId other_id = desc.body_a == id ? desc.body_b : desc.body_a;
-        if (other_id != kWorldBodyId) reach(id_to_dense_[other_id]);
-      }
+      for_each_neighbour(i, reach);
     }
     if (!stirs) return;
     for (std::size_t k = first; k < stir_reached_.size(); ++k) stir_marks_[stir_reached_[k]] = kReachedStirs;
@@ -352,32 +357,12 @@ void World::Impl::wake_island(std::uint32_t body, WakeCause cause) {
     record.reach = 0;
     external_[i] = SolverVelocity{};
     refresh_solver_data(i);
-    for (ContactKey key = record.contact_head; key != kNullContactKey;) {
-      const std::uint32_t slot = key >> 1;
-      const ContactLink& link = links_[slot];
-      const std::uint32_t side = key & 1;
-      key = link.next[side];
-      if (!link.may_touch) continue;
-      const std::uint32_t other = side == 0 ? link.body_b : link.body_a;
-      BodyRecord& other_record = records_[other];
-      if (other_record.motion_type != MotionType::dynamic_body || awake_[other]) continue;
+    for_each_neighbour(i, [&](std::uint32_t other) {
+      if (records_[other].motion_type != MotionType::dynamic_body || awake_[other]) return;
       awake_[other] = 1;
       island_stack_.push_back(other);
       if (collecting_woken_) woken_.push_back(other);
-    }
-    // And over its joints.
-    const BodyId id = dense_to_id_[i];
-    if (id >= body_joints_.size()) continue;
-    for (JointId joint_id : body_joints_[id]) {
-      const JointDesc& desc = joints_[joint_id_to_dense_[joint_id]].desc;
-      const BodyId other_id = desc.body_a == id ? desc.body_b : desc.body_a;
-      if (other_id == kWorldBodyId) continue;
-      const std::uint32_t other = id_to_dense_[other_id];
-      if (records_[other].motion_type != MotionType::dynamic_body || awake_[other]) continue;
-      awake_[other] = 1;
-      island_stack_.push_back(other);
-      if (collecting_woken_) woken_.push_back(other);
-    }
+    });
   }
 }
 

@@ -201,6 +201,10 @@ class World::Impl {
   // over while its last cubes settle). Anything else restarts the count.
   enum class WakeCause : std::uint8_t { disturbed, touched };
   void wake_island(std::uint32_t body, WakeCause cause = WakeCause::disturbed);
+  // Calls visit(other) for each body joined to `body` by a contact that may
+  // touch, then by each of its joints (not for the world).
+  template <typename Visit>
+  void for_each_neighbour(std::uint32_t body, Visit&& visit) const;
   void put_to_sleep(std::uint32_t body);
   // A dynamic body that sleeps.
   bool asleep(std::uint32_t body) const { return !awake_[body] && is_dynamic(body); }
