@@ -143,6 +143,8 @@ class World::Impl {
   std::uint32_t find_contact(std::uint32_t a, std::uint32_t b) const;
   bool has_contact(std::uint32_t a, std::uint32_t b) const { return find_contact(a, b) != kNoIndex; }
   void create_contact(std::uint32_t a, std::uint32_t b);
+  // Contacts alive: the slots in use.
+  std::size_t live_pair_count() const { return links_.size() - free_contacts_.size(); }
   void destroy_contact(std::uint32_t c);
   void destroy_contacts_of(std::uint32_t body, bool wake_others);
   void relabel_body(std::uint32_t from, std::uint32_t to);

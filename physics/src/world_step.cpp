@@ -52,13 +52,13 @@ void World::Impl::step(double dt) {
   // then the whole step. (An empty world's flags have no data to scan:
   // memchr must not be given a null pointer even for no bytes.)
   if (awake_.empty() || std::memchr(awake_.data(), 1, awake_.size()) == nullptr) {
-    stats_.pairs = links_.size() - free_contacts_.size();
+    stats_.pairs = live_pair_count();
     return;
   }
   integrate_velocities(dt);
   update_broadphase(dt);
   update_contacts();
-  stats_.pairs = links_.size() - free_contacts_.size();
+  stats_.pairs = live_pair_count();
   solve_contacts(dt);
   integrate_positions(dt);
   update_sleep(dt);
