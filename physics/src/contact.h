@@ -41,6 +41,9 @@ struct ContactLink {
   // possible); while neither box changes the pair needs no look.
   bool apart = false;
   bool with_plane = false;  // body_b is a plane: the pair lives while a's box reaches it
+  // Every point of the manifold is apart (separation > 0): the pair takes
+  // no impulse unless its bodies close the gap within the step.
+  bool speculative = false;
 };
 
 // The rest of a contact; its pair is in the ContactLink at the same index.

@@ -120,6 +120,7 @@ void ContactIslands::build(std::span<const Contact> contacts, std::span<const Co
     c.body_b = links[c.contact].body_b;
     c.point_count = static_cast<std::uint32_t>(contacts[c.contact].manifold.point_count);
     c.may_touch = links[c.contact].may_touch;
+    c.speculative = links[c.contact].speculative;
   }
   for (ContactIsland& island : islands_) {
     island.first_body = static_cast<std::uint32_t>(bodies_.size());

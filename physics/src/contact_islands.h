@@ -35,7 +35,8 @@ struct ContactConstraint {
   std::uint32_t body_b = 0;
   std::uint32_t contact = 0;
   std::uint32_t point_count = 0;
-  bool may_touch = false;  // ContactLink::may_touch
+  bool may_touch = false;    // ContactLink::may_touch
+  bool speculative = false;  // ContactLink::speculative
 };
 
 // A joint's side on the world rather than a body.

@@ -103,14 +103,26 @@ template <bool kSideA, bool kSideB>
   if constexpr (kSideB) scatter_velocity(slots, w.slot_b, w.inverse_mass_b, b);
 }
 
+// The lanes whose point takes no impulse: normal and friction all zero.
+inline Mask4 holds_no_impulse(const WidePoint& p) {
+  const Float4 zero = splat4(0.0f);
+  return (p.normal.impulse == zero) & (p.tangent1.impulse == zero) & (p.tangent2.impulse == zero);
+}
+
 // The accumulated impulses of the last step, applied again.
 template <bool kSideA, bool kSideB>
 [[gnu::always_inline]] inline void warm_start_wide(const WideConstraint& w, const WidePoint* points,
                                                    SolverBody* slots) {
+  // Mostly the lanes of contacts whose points are all apart: nothing to
+  // apply, and the bodies need not be read.
+  bool idle = !w.spins || all4(w.spin_impulse == splat4(0.0f));
+  for (std::uint32_t k = 0; k < w.point_count && idle; ++k) idle = all4(holds_no_impulse(points[k]));
+  if (idle) return;
   WideVelocity a{}, b{};
   gather_sides<kSideA, kSideB>(slots, w, a, b);
   for (std::uint32_t k = 0; k < w.point_count; ++k) {
     const WidePoint& p = points[k];
+    if (all4(holds_no_impulse(p))) continue;
     const Vec3x4 impulse =
         p.normal.impulse * w.normal + p.tangent1.impulse * w.tangent1 + p.tangent2.impulse * w.tangent2;
     apply_impulse<kSideA, kSideB>(a, b, w, impulse,
@@ -174,6 +186,9 @@ template <bool kSideA, bool kSideB>
 
   for (std::uint32_t k = 0; k < w.point_count; ++k) {
     WidePoint& p = points[k];
+    // No lane pushes at this point and none holds a friction impulse: the
+    // disc is a point at zero, so the rows would leave every impulse zero.
+    if (all4(holds_no_impulse(p))) continue;
     const Float4 vt1 = along_row<kSideA, kSideB>(w.tangent1, p.tangent1.jacobian_a, p.tangent1.jacobian_b, a.linear,
                                                  a.angular, b.linear, b.angular);
     const Float4 vt2 = along_row<kSideA, kSideB>(w.tangent2, p.tangent2.jacobian_a, p.tangent2.jacobian_b, a.linear,

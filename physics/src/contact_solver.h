@@ -59,10 +59,15 @@
 // four lanes of Float4 at once (wide_constraint.h). Static bodies and
 // kinematic bodies that stand still take no slot: their terms read a slot
 // of zeros. A constraint for which no colour is free is solved in a wide
-// constraint of its own (one lane used). The arms and friction directions
-// are found in double precision, the rows built and solved in single
-// precision; the solve hands back each body's change of velocity, added to
-// its double velocity.
+// constraint of its own (one lane used). Within a colour, the contacts
+// whose points are all apart are packed together, after the others: a
+// point at which no lane holds an impulse, normal or friction, skips its
+// friction rows in a pass (the disc is a point at zero, so they would
+// change nothing) and the warm start, which mostly spares the speculative
+// points of bodies still falling side by side. The arms and friction
+// directions are found in double precision, the rows built and solved in
+// single precision; the solve hands back each body's change of velocity,
+// added to its double velocity.
 //
 // Thread: prepare() and solve() from the World's thread; solve() runs
 // groups on the team's threads and returns when all are done. Arrays are

@@ -119,15 +119,18 @@ void ContactSolver::plan_group(Group& group, std::span<const SolverVelocity> vel
     if (overflow) {
       packing_.assign(members.begin(), members.end());
     } else {
+      // Within each of the three, the contacts whose points are all apart
+      // come last, so they share wide constraints: such a lane mostly
+      // takes no impulse, and a point no lane pushes on skips its
+      // friction (solve_wide).
       auto fixed = [&](std::uint32_t body) { return slot_of(body) == 0; };
-      for (const std::uint32_t m : members) {
-        if (fixed(constraints[m].body_a)) packing_.push_back(m);
-      }
-      for (const std::uint32_t m : members) {
-        if (!fixed(constraints[m].body_a) && !fixed(constraints[m].body_b)) packing_.push_back(m);
-      }
-      for (const std::uint32_t m : members) {
-        if (!fixed(constraints[m].body_a) && fixed(constraints[m].body_b)) packing_.push_back(m);
+      auto sides = [&](const ContactConstraint& c) { return fixed(c.body_a) ? 0 : fixed(c.body_b) ? 2 : 1; };
+      for (int side = 0; side < 3; ++side) {
+        for (const bool speculative : {false, true}) {
+          for (const std::uint32_t m : members) {
+            if (sides(constraints[m]) == side && constraints[m].speculative == speculative) packing_.push_back(m);
+          }
+        }
       }
     }
     for (std::size_t k = 0; k < packing_.size(); k += width) {

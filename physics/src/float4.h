@@ -38,6 +38,15 @@ inline bool any4(Mask4 mask) {
 #endif
 }
 
+// Whether every lane of mask is set.
+inline bool all4(Mask4 mask) {
+#if defined(__SSE__)
+  return _mm_movemask_ps(std::bit_cast<__m128>(mask)) == 0xf;
+#else
+  return (mask[0] & mask[1] & mask[2] & mask[3]) != 0;
+#endif
+}
+
 inline Float4 sqrt4(Float4 x) {
 #if defined(__SSE__)
   return std::bit_cast<Float4>(_mm_sqrt_ps(std::bit_cast<__m128>(x)));

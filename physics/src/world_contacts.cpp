@@ -320,6 +320,8 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
   if (update_manifold(c, slot)) update |= kContactComputed;
   const bool touched_before = link.may_touch;
   link.touching = c.manifold.point_count > 0;
+  link.speculative = std::all_of(c.manifold.points, c.manifold.points + c.manifold.point_count,
+                                 [](const ManifoldPoint& p) { return p.separation > 0; });
   link.may_touch = link.touching && may_touch(slot);
   if (link.touching) update |= kContactTouching;
   if (link.may_touch && !touched_before) update |= kContactStartedTouching;

@@ -152,5 +152,31 @@ INSTANTIATE_TEST_SUITE_P(Supports, SlidingTest,
                            return "";
                          });
 
+// A box that slides at 4 m/s and falls at 3 m/s starts the step 8 mm
+// above the ground: its points are apart (speculative) when the step
+// starts, and it lands within the step. The landing's normal impulse,
+// about m (3 m/s + g dt), brings friction mu times that: the slide loses
+// about mu 3 m/s in that very step, not one step later.
+TEST(LandingFriction, ABoxThatLandsWithinTheStepSlowsInThatStep) {
+  const double mu = 0.5;
+  const double slide = 4.0, fall = 3.0;
+  World world;
+  world.set_gravity(Vec3(0.0, -kGravity, 0.0));
+  BodyDesc ground = testing::ground_plane();
+  ground.friction = mu;
+  world.add_body(ground);
+  BodyDesc desc = box_body(Vec3(0.0, 0.5 + 0.008, 0.0));
+  desc.friction = mu;
+  desc.linear_velocity = Vec3(slide, -fall, 0.0);
+  const BodyId box = world.add_body(desc);
+
+  world.step(kTick);
+  EXPECT_GT(world.linear_velocity(box).y(), -0.5) << "it has landed";
+  const double lost = slide - world.linear_velocity(box).x();
+  const double expected = mu * (fall + kGravity * kTick);
+  EXPECT_GT(lost, 0.8 * expected);
+  EXPECT_LT(lost, 1.2 * expected);
+}
+
 }  // namespace
 }  // namespace tumble::physics
