@@ -268,7 +268,8 @@ template <typename F>
 
 void ContactSolver::prepare(std::span<Contact> contacts, std::span<const ContactLink> links,
                             std::span<const std::uint32_t> active, std::span<Joint> joints,
-                            std::span<const JointConstraint> joint_edges, const ContactSolverBodies& bodies, double dt,
+                            std::span<const JointConstraint> joint_edges, const ContactSolverBodies& bodies,
+                            std::span<const SolverVelocity> velocities, double dt,
                             const ContactSolverSettings& settings) {
   const std::size_t body_count = bodies.inverse_mass.size();
   if (motion_.size() < body_count) {
@@ -300,6 +301,31 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   joint_settings_.inverse_h = inverse_h_;
   joints_ = joints;
 
+  // The islands and the plan (solve()) read of the constraints only their
+  // bodies, point counts and flags, and of the bodies only whether each is
+  // dynamic, a kinematic one in motion (its own slot) or fixed.
+  auto kind = [&](std::uint32_t body) -> std::uint64_t {
+    if (body == kNoJointBody) return 0;
+    if (bodies.inverse_mass[body] != 0) return 1;
+    const SolverVelocity& v = velocities[body];
+    return v.linear.isZero(0) && v.angular.isZero(0) ? 0 : 2;
+  };
+  plan_key_.clear();
+  for (const std::uint32_t index : active) {
+    const ContactLink& link = links[index];
+    const std::uint64_t point_count = static_cast<std::uint64_t>(contacts[index].manifold.point_count);
+    plan_key_.push_back((std::uint64_t{index} << 32) | link.body_a);
+    plan_key_.push_back((std::uint64_t{link.body_b} << 32) | point_count | std::uint64_t{link.may_touch} << 8 |
+                        std::uint64_t{link.speculative} << 9 | kind(link.body_a) << 10 | kind(link.body_b) << 12);
+  }
+  for (const JointConstraint& j : joint_edges) {
+    plan_key_.push_back((std::uint64_t{j.joint} << 32) | j.body_a);
+    plan_key_.push_back((std::uint64_t{j.body_b} << 32) | 1u << 14 | kind(j.body_a) << 10 | kind(j.body_b) << 12);
+  }
+  plan_kept_ = planned_ && plan_key_ == planned_key_;
+  if (plan_kept_) return;
+  planned_ = false;
+  std::swap(plan_key_, planned_key_);
   islands_.build(contacts, links, active, joint_edges, bodies.inverse_mass);
 }
 
@@ -312,6 +338,8 @@ void ContactSolver::reserve(std::size_t constraints) {
   // body of one (or a group's slot of zeros).
   wide_.reserve(constraints);
   wide_points_.reserve(kMaxManifoldPoints * constraints);
+  plan_key_.reserve(2 * constraints);
+  planned_key_.reserve(2 * constraints);
   solver_bodies_.reserve(2 * constraints);
   solver_external_.reserve(2 * constraints);
   slot_turns_.reserve(2 * constraints);

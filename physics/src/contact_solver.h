@@ -111,15 +111,21 @@ class ContactSolver {
   // the step's settings. contacts, joints and bodies must stay unchanged
   // until solve() returns; solve() writes the contacts' and the joints'
   // impulses (joint_solver.h).
+  // velocities: every body's, as solve() will get them (a kinematic body's
+  // tells whether it moves). When the constraints are those of the last
+  // step (the same contacts with the same bodies and point counts, the same
+  // joints, each body as dynamic, moving or fixed as it was), the last
+  // step's islands and plan are kept: they depend on nothing else.
   void prepare(std::span<Contact> contacts, std::span<const ContactLink> links, std::span<const std::uint32_t> active,
                std::span<Joint> joints, std::span<const JointConstraint> joint_edges, const ContactSolverBodies& bodies,
-               double dt, const ContactSolverSettings& settings);
+               std::span<const SolverVelocity> velocities, double dt, const ContactSolverSettings& settings);
   // Room for this many constraints and four points each, reserved (not
   // written) ahead of need, so a step whose contacts multiply does not copy
   // the rows it has built so far.
   void reserve(std::size_t constraints);
   // Gathers the islands into groups, colours each group's constraints and
-  // packs them into wide constraints (on the caller's thread), then builds
+  // packs them into wide constraints (on the caller's thread; unless
+  // prepare() kept the last step's), then builds
   // and solves each group on team's threads (on the caller's alone when
   // team is null): runs the substeps, relax passes and
   // restitution on velocities, and stores the impulses in the contacts for
@@ -139,6 +145,8 @@ class ContactSolver {
   std::size_t joint_count() const { return islands_.joints().size(); }
   std::size_t point_count() const { return islands_.point_count(); }
   std::size_t island_count() const { return islands_.islands().size(); }
+  // Whether this step kept the last step's islands and plan (prepare()).
+  bool plan_kept() const { return plan_kept_; }
 
  private:
   // Consecutive islands solved as one task: their constraints, joints and
@@ -166,7 +174,9 @@ class ContactSolver {
 
   static constexpr std::uint32_t kNoBody = 0xffffffff;
 
-  // Groups and their dispatch (contact_solver_tasks.cpp).
+  // Groups and their dispatch (contact_solver_tasks.cpp): plan() gathers
+  // the islands into groups and plans each.
+  void plan(std::span<const SolverVelocity> velocities);
   void plan_group(Group& group, std::span<const SolverVelocity> velocities);
   // The passes (contact_solver.cpp).
   void solve_group(const Group& group, std::span<SolverVelocity> velocities);
@@ -207,6 +217,13 @@ class ContactSolver {
     std::uint32_t b = 0;
   };
   std::vector<JointSlots> joint_slots_;
+  // What the islands and the plan are made from (prepare()): per contact
+  // its slot and bodies, then its point count, flags and the bodies'
+  // kinds; per joint the same. This step's and the last planned step's.
+  std::vector<std::uint64_t> plan_key_;
+  std::vector<std::uint64_t> planned_key_;
+  bool planned_ = false;    // solve() planned from planned_key_'s islands
+  bool plan_kept_ = false;  // this step reuses them
   std::vector<JointRow> joint_rows_;
   std::span<Contact> contacts_;
   std::span<Joint> joints_;

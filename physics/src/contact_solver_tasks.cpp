@@ -22,6 +22,24 @@ constexpr std::uint32_t kJointPoints = 8;
 }  // namespace
 
 void ContactSolver::solve(std::span<SolverVelocity> velocities, TaskSystem* team) {
+  if (!plan_kept_) plan(velocities);
+  planned_ = true;
+  if (team == nullptr || team->thread_count() == 1) {
+    for (const Group& group : groups_) solve_group(group, velocities);
+    return;
+  }
+  // Largest groups first, so the last task to start is a small one. (The
+  // order changes which thread takes a group, not its result.)
+  group_order_.resize(groups_.size());
+  for (std::uint32_t i = 0; i < group_order_.size(); ++i) group_order_[i] = i;
+  std::sort(group_order_.begin(), group_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
+    return groups_[x].point_count != groups_[y].point_count ? groups_[x].point_count > groups_[y].point_count : x < y;
+  });
+  auto task = [&](std::size_t k) { solve_group(groups_[group_order_[k]], velocities); };
+  run_tasks(*team, group_order_.size(), task);
+}
+
+void ContactSolver::plan(std::span<const SolverVelocity> velocities) {
   // Groups of consecutive islands (their constraints and bodies are
   // contiguous), then their slots and wide constraints, on this thread.
   groups_.clear();
@@ -54,20 +72,6 @@ void ContactSolver::solve(std::span<SolverVelocity> velocities, TaskSystem* team
     slot_turns_.resize(slot_count_);
   }
   if (wide_points_.size() < wide_point_count_) wide_points_.resize(wide_point_count_);
-
-  if (team == nullptr || team->thread_count() == 1) {
-    for (const Group& group : groups_) solve_group(group, velocities);
-    return;
-  }
-  // Largest groups first, so the last task to start is a small one. (The
-  // order changes which thread takes a group, not its result.)
-  group_order_.resize(groups_.size());
-  for (std::uint32_t i = 0; i < group_order_.size(); ++i) group_order_[i] = i;
-  std::sort(group_order_.begin(), group_order_.end(), [&](std::uint32_t x, std::uint32_t y) {
-    return groups_[x].point_count != groups_[y].point_count ? groups_[x].point_count > groups_[y].point_count : x < y;
-  });
-  auto task = [&](std::size_t k) { solve_group(groups_[group_order_[k]], velocities); };
-  run_tasks(*team, group_order_.size(), task);
 }
 
 void ContactSolver::plan_group(Group& group, std::span<const SolverVelocity> velocities) {

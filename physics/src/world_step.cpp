@@ -115,11 +115,12 @@ void World::Impl::solve_contacts(double dt) {
   const ContactSolverBodies bodies{inverse_masses_, inverse_inertia_, transforms_,
                                    frictions_,      restitutions_,    external_};
   collect_joint_edges();
-  solver_.prepare(contacts_, links_, active_, joints_, joint_edges_, bodies, dt, solver_settings);
+  solver_.prepare(contacts_, links_, active_, joints_, joint_edges_, bodies, velocities_, dt, solver_settings);
   stats_.solved_contacts = solver_.constraint_count();
   stats_.solved_joints = solver_.joint_count();
   stats_.solved_points = solver_.point_count();
   stats_.islands = solver_.island_count();
+  stats_.plan_kept = solver_.plan_kept();
   if (solver_.constraint_count() == 0 && solver_.joint_count() == 0) return;
 
   solver_.solve(velocities_, tasks());

@@ -84,6 +84,32 @@ TEST(MotionTypeTest, KinematicIgnoresForcesAndCanStop) {
   EXPECT_EQ(world.kinetic_energy(k), 0.0);
 }
 
+// A box rests on a kinematic slab that stands still, with sleeping off,
+// until the solver keeps its plan from step to step (the same contact,
+// the slab read as fixed). Sent upwards at 1 m/s, the slab lifts the box in
+// the very next step: the contact is the same, but the slab now moves and
+// the plan must give it a slot of its own.
+TEST(MotionTypeTest, AStillKinematicSlabThatStartsMovingLiftsTheBoxOnItAtOnce) {
+  World world;
+  world.set_settings(testing::settings_without_sleep());
+  world.set_gravity(Vec3(0.0, -kGravity, 0.0));
+  BodyDesc slab = box_body(Vec3(0.0, -0.5, 0.0));
+  slab.shape = box_shape(Vec3(2.0, 0.5, 2.0));
+  slab.motion_type = MotionType::kinematic_body;
+  const BodyId k = world.add_body(slab);
+  const BodyId box = world.add_body(box_body(Vec3(0.0, 0.5, 0.0)));
+  int steps = 0;
+  while (!world.last_step_stats().plan_kept && steps < 240) {
+    world.step(kTick);
+    ++steps;
+  }
+  ASSERT_TRUE(world.last_step_stats().plan_kept) << "a box at rest on a still slab keeps its plan";
+  world.set_state(k, world.position(k), world.orientation(k), Vec3(0.0, 1.0, 0.0), Vec3::Zero());
+  world.step(kTick);
+  EXPECT_FALSE(world.last_step_stats().plan_kept);
+  EXPECT_NEAR(world.linear_velocity(box).y(), 1.0, 0.1);
+}
+
 // A kinematic sphere spinning in place between two sleeping spheres (their
 // pairs are kept but the step boxes stay apart, so the contact pass looks
 // at them only when a box changes): the sleepers stay asleep and untouched

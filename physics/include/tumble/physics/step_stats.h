@@ -17,6 +17,9 @@ struct StepStats {
   std::size_t solved_points = 0;       // their points
   std::size_t solved_joints = 0;       // joints with an awake dynamic body, solved with the contacts
   std::size_t islands = 0;             // groups of those that share no dynamic body, solved apart
+  // The solver kept the last step's islands and plan (its colouring and
+  // packing): the constraints were the same as then (a resting heap).
+  bool plan_kept = false;
 };
 
 }  // namespace tumble::physics
