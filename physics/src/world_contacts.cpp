@@ -284,14 +284,7 @@ std::uint8_t World::Impl::update_contact(std::uint32_t slot) {
     // They overlapped at the last update (the pair would be gone otherwise);
     // while neither fat box has moved since, they still do, and the tree's
     // nodes, far apart in memory, need not be read.
-    overlap = fat_passes_[a] <= last_update && fat_passes_[b] <= last_update;
-    if (!overlap) {
-      const Aabb& fat_a = (records_[a].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
-                              .fat_aabb(records_[a].proxy);
-      const Aabb& fat_b = (records_[b].motion_type == MotionType::static_body ? static_tree_ : movable_tree_)
-                              .fat_aabb(records_[b].proxy);
-      overlap = fat_a.overlaps(fat_b);
-    }
+    overlap = (fat_passes_[a] <= last_update && fat_passes_[b] <= last_update) || fat_box(a).overlaps(fat_box(b));
     // aabbs_[i] holds body i's shape grown by its reach this step (a
     // body not stepped has reach 0 and its box from when it last moved).
     // Apart by more than half the margin each, the shapes are farther

@@ -141,6 +141,12 @@ class World::Impl {
   bool can_collide(std::size_t a, std::size_t b) const;
   // The slot of the contact between bodies a and b, or kNoIndex.
   std::uint32_t find_contact(std::uint32_t a, std::uint32_t b) const;
+  // Body i's fat box in its broadphase tree (the static or the movable
+  // one); i must have a proxy.
+  const Aabb& fat_box(std::uint32_t i) const {
+    const DynamicTree& tree = records_[i].motion_type == MotionType::static_body ? static_tree_ : movable_tree_;
+    return tree.fat_aabb(records_[i].proxy);
+  }
   bool has_contact(std::uint32_t a, std::uint32_t b) const { return find_contact(a, b) != kNoIndex; }
   void create_contact(std::uint32_t a, std::uint32_t b);
   // Contacts alive: the slots in use.

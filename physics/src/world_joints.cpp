@@ -181,11 +181,7 @@ void World::Impl::pair_if_overlapping(std::uint32_t a, std::uint32_t b) {
     return;
   }
   if (records_[a].proxy == DynamicTree::kNull || records_[b].proxy == DynamicTree::kNull) return;
-  auto fat = [&](std::uint32_t i) -> const Aabb& {
-    const DynamicTree& tree = records_[i].motion_type == MotionType::static_body ? static_tree_ : movable_tree_;
-    return tree.fat_aabb(records_[i].proxy);
-  };
-  if (fat(a).overlaps(fat(b))) create_contact(a, b);
+  if (fat_box(a).overlaps(fat_box(b))) create_contact(a, b);
 }
 
 bool World::Impl::jointed(std::size_t a, std::size_t b) const {
