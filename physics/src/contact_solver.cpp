@@ -302,13 +302,10 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   joints_ = joints;
 
   // The islands and the plan (solve()) read of the constraints only their
-  // bodies, point counts and flags, and of the bodies only whether each is
+  // bodies, point counts and flags, and of the bodies only their kind_of():
   // dynamic, a kinematic one in motion (its own slot) or fixed.
   auto kind = [&](std::uint32_t body) -> std::uint64_t {
-    if (body == kNoJointBody) return 0;
-    if (bodies.inverse_mass[body] != 0) return 1;
-    const SolverVelocity& v = velocities[body];
-    return v.linear.isZero(0) && v.angular.isZero(0) ? 0 : 2;
+    return body == kNoJointBody ? 0 : static_cast<std::uint64_t>(kind_of(body, velocities));
   };
   plan_key_.clear();
   for (const std::uint32_t index : active) {
@@ -327,6 +324,12 @@ void ContactSolver::prepare(std::span<Contact> contacts, std::span<const Contact
   planned_ = false;
   std::swap(plan_key_, planned_key_);
   islands_.build(contacts, links, active, joint_edges, bodies.inverse_mass);
+}
+
+ContactSolver::BodyKind ContactSolver::kind_of(std::uint32_t body, std::span<const SolverVelocity> velocities) const {
+  if (bodies_.inverse_mass[body] != 0) return BodyKind::dynamic;
+  const SolverVelocity& v = velocities[body];
+  return v.linear.isZero(0) && v.angular.isZero(0) ? BodyKind::fixed : BodyKind::moving;
 }
 
 void ContactSolver::reserve(std::size_t constraints) {

@@ -174,6 +174,13 @@ class ContactSolver {
 
   static constexpr std::uint32_t kNoBody = 0xffffffff;
 
+  // How the plan reads a body: fixed (static, or kinematic and standing
+  // still: the slot of zeros), dynamic (a slot in its group), or moving (a
+  // kinematic body in motion: a slot of its own in each group that reads
+  // it). velocities as solve() gets them.
+  enum class BodyKind : std::uint8_t { fixed, dynamic, moving };
+  BodyKind kind_of(std::uint32_t body, std::span<const SolverVelocity> velocities) const;
+
   // Groups and their dispatch (contact_solver_tasks.cpp): plan() gathers
   // the islands into groups and plans each.
   void plan(std::span<const SolverVelocity> velocities);

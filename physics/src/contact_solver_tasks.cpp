@@ -94,9 +94,9 @@ void ContactSolver::plan_group(Group& group, std::span<const SolverVelocity> vel
   // plan that made it.
   ++plan_stamp_;
   auto slot_of = [&](std::uint32_t body) -> std::uint32_t {
-    if (bodies_.inverse_mass[body] != 0) return slot_of_body_[body];
-    const SolverVelocity& v = velocities[body];
-    if (v.linear.isZero(0) && v.angular.isZero(0)) return 0;
+    const BodyKind kind = kind_of(body, velocities);
+    if (kind == BodyKind::dynamic) return slot_of_body_[body];
+    if (kind == BodyKind::fixed) return 0;
     if (slot_stamp_[body] != plan_stamp_) {
       slot_stamp_[body] = plan_stamp_;
       slot_of_body_[body] = static_cast<std::uint32_t>(slot_count_) - group.first_slot;
