@@ -333,7 +333,7 @@ void World::Impl::put_to_sleep(std::uint32_t body) {
 }
 
 void World::Impl::wake_island(std::uint32_t body, WakeCause cause) {
-  if (records_[body].motion_type != MotionType::dynamic_body) return;
+  if (!is_dynamic(body)) return;
   if (awake_[body]) {
     // Its count starts over, so that it stirs (stirring()): whatever
     // sleeps against it wakes before the step moves it.
@@ -358,7 +358,7 @@ void World::Impl::wake_island(std::uint32_t body, WakeCause cause) {
     external_[i] = SolverVelocity{};
     refresh_solver_data(i);
     for_each_neighbour(i, [&](std::uint32_t other) {
-      if (records_[other].motion_type != MotionType::dynamic_body || awake_[other]) return;
+      if (!asleep(other)) return;
       awake_[other] = 1;
       island_stack_.push_back(other);
       if (collecting_woken_) woken_.push_back(other);
