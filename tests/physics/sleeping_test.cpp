@@ -42,6 +42,15 @@ bool all_awake(const World& world, const std::vector<BodyId>& ids) {
   return true;
 }
 
+// Stops the body where it is, awake, and makes it as if it had been still
+// there for `seconds`: its sleep count set, the window starting here.
+void hold_still(World& world, BodyId id, double seconds) {
+  const Vec3 position = world.position(id);
+  const Quat orientation = world.orientation(id);
+  world.restore_state(id, position, orientation, Vec3::Zero(), Vec3::Zero(), true,
+                      SleepProgress{seconds, position, orientation});
+}
+
 // Steps until every listed body sleeps; returns the time taken (s) or a
 // negative value if that takes longer than limit seconds.
 double time_to_sleep(World& world, const std::vector<BodyId>& ids, double limit) {
@@ -305,11 +314,7 @@ TEST(SleepingTest, ABlowThroughASettlingBoxWithABoxOnItWakesTheBoxAsleepBehindIt
   // Still for 0.1 s, for time_to_sleep and more, and for time_to_sleep.
   const double still_for[] = {0.1, 0.6, 0.6};
   const BodyId bodies[] = {settling, resting, top};
-  for (int k = 0; k < 3; ++k) {
-    const BodyId id = bodies[k];
-    world.restore_state(id, world.position(id), world.orientation(id), Vec3::Zero(), Vec3::Zero(), true,
-                        SleepProgress{still_for[k], world.position(id), world.orientation(id)});
-  }
+  for (int k = 0; k < 3; ++k) hold_still(world, bodies[k], still_for[k]);
   world.step(kTick);
   ASSERT_FALSE(world.is_awake(resting));
   ASSERT_TRUE(world.is_awake(settling));
@@ -331,11 +336,8 @@ TEST(SleepingTest, ABoxOnASettlingBoxWaitsForIt) {
   world.add_body(ground_plane());
   const std::vector<BodyId> stack = add_column(world, 0.0, 2);
   for (int i = 0; i < static_cast<int>(1.0 / kTick); ++i) world.step(kTick);
-  for (std::size_t k = 0; k < stack.size(); ++k) {
-    const BodyId id = stack[k];
-    SleepProgress sleep{k == 0 ? 0.1 : 0.6, world.position(id), world.orientation(id)};
-    world.restore_state(id, world.position(id), world.orientation(id), Vec3::Zero(), Vec3::Zero(), true, sleep);
-  }
+  hold_still(world, stack[0], 0.1);
+  hold_still(world, stack[1], 0.6);
   world.step(kTick);
   EXPECT_TRUE(world.is_awake(stack[1]));
   const double slept_after = time_to_sleep(world, stack, 1.0);
@@ -359,10 +361,8 @@ TEST(SleepingTest, ABoxJointedToASettlingBoxWaitsForIt) {
   joint.local_anchor_b = Vec3(-0.5, 0, 0);
   world.add_joint(joint);
   for (int i = 0; i < static_cast<int>(1.0 / kTick); ++i) world.step(kTick);
-  for (const BodyId id : {left, right}) {
-    SleepProgress sleep{id == left ? 0.1 : 0.6, world.position(id), world.orientation(id)};
-    world.restore_state(id, world.position(id), world.orientation(id), Vec3::Zero(), Vec3::Zero(), true, sleep);
-  }
+  hold_still(world, left, 0.1);
+  hold_still(world, right, 0.6);
   world.step(kTick);
   EXPECT_TRUE(world.is_awake(right));
   const double slept_after = time_to_sleep(world, {left, right}, 1.0);
